@@ -3,6 +3,7 @@
 
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 namespace gdm {
 
@@ -19,5 +20,27 @@ using Vec3 = Eigen::Vector3d;
 
 inline Vec3 to_eigen(const Mesh::Point& p) { return {p[0], p[1], p[2]}; }
 inline Mesh::Point to_point(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
+
+}  // namespace gdm
+
+namespace gdm {
+
+// The per-vertex generation (the deformation cycle that created the vertex,
+// paper section 6.4, Fig. 11), stored as the OpenMesh property "v:generation".
+inline OpenMesh::VPropHandleT<int> generation_property(Mesh& mesh) {
+  OpenMesh::VPropHandleT<int> handle;
+  if (!mesh.get_property_handle(handle, "v:generation")) {
+    mesh.add_property(handle, "v:generation");
+    for (auto v : mesh.vertices()) mesh.property(handle, v) = 0;
+  }
+  return handle;
+}
+
+// The generation property of a const mesh; an invalid handle when absent.
+inline OpenMesh::VPropHandleT<int> find_generation_property(const Mesh& mesh) {
+  OpenMesh::VPropHandleT<int> handle;
+  mesh.get_property_handle(handle, "v:generation");
+  return handle;
+}
 
 }  // namespace gdm

@@ -1,0 +1,79 @@
+// The deformation driver: cycles of vertex moves and resampling until the
+// model converges (paper sections 3 to 6), with the guarantees beyond the
+// paper (no self-intersection, deterministic multithreading).
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <limits>
+#include <string>
+
+#include "gdm/cost_terms.h"
+#include "gdm/mesh.h"
+#include "gdm/optimizer.h"
+#include "gdm/volume.h"
+
+namespace gdm {
+
+struct DeformOptions {
+  Mode mode = Mode::grow;                         // grow from inside or shrink from outside (section 5)
+  Polarity polarity = Polarity::object_brighter;  // which side of the threshold is the object
+  double threshold = std::numeric_limits<double>::quiet_NaN();  // T of eq. 2; required
+  double a0 = 1.0;                   // deformation gain (Table 2)
+  double a1 = 1.0;                   // image event gain (Table 2)
+  double a2 = 5.0;                   // topology gain (Table 2)
+  double intensity_scale = 0.0;      // intensity per unit of I; 0 = 1% of the value range
+  double reach = 1.0;                // distance of the normal-tracking target, voxels
+  int normal_rings = 2;              // rings of faces averaged into a vertex normal (section 7)
+  bool local_flip = true;            // flip the deformation sense of misplaced vertices (section 5)
+  OptimizerOptions optimizer;        // step range and reductions (section 3.2)
+  double lod_face_area = 10.0;       // split faces larger than this, voxel^2 (Table 2)
+  bool lod_topology_extent = true;   // floor eq. 3's extent at the level of detail (see TopologyTerm)
+  int global_refinements = 1;        // 1-to-4 resamplings, each after a convergence (section 6)
+  int max_cycles = 2000;             // hard limit on deformation cycles, all stages together
+  double convergence_tolerance = 0.5;  // a vertex counts as moving beyond this, voxels
+  int convergence_window = 5;        // converged when nothing moved for this many cycles
+  bool prevent_self_intersection = true;  // veto moves and flips that would self-intersect
+  bool improve_triangles = true;     // Delaunay edge flips on nearly flat regions
+  double flip_max_dihedral = 20.0;   // only flip where faces are this close to flat, degrees
+  int threads = 0;                   // worker threads; 0 = all cores; results do not depend on it
+  std::size_t max_faces = 2000000;   // stop when the model grows past this many faces
+};
+
+// Called once per cycle.
+struct CycleReport {
+  int cycle = 0;                // 1-based
+  int stage = 0;                // global refinements done so far
+  std::size_t vertices = 0;
+  std::size_t faces = 0;
+  std::size_t evaluated = 0;    // vertices whose cost was evaluated (the active set)
+  std::size_t moved = 0;        // vertices that moved this cycle
+  std::size_t splits = 0;       // edges split by the local resampling
+  double mean_cost = 0.0;       // mean vertex cost after the cycle
+};
+
+// Returns false to cancel the run.
+using DeformObserver = std::function<bool(const CycleReport&)>;
+
+enum class StopReason { converged, max_cycles, face_limit, cancelled };
+std::string to_string(StopReason reason);
+
+struct DeformResult {
+  StopReason reason = StopReason::converged;
+  int cycles = 0;
+  int global_refinements = 0;     // performed
+  std::size_t rejected_moves = 0; // moves vetoed by the self-intersection guard
+  std::size_t flips = 0;          // edge flips performed
+  std::size_t border_vertices = 0;  // vertices within one voxel of the volume's border (a leak)
+};
+
+// Checks the options against the volume; throws InvalidOption or InvalidVolume.
+void validate(const DeformOptions& options, const Volume& volume);
+
+// Deforms `mesh` (a closed 2-manifold seed inside the volume) until it fits the
+// object. Throws InvalidOption, InvalidVolume or InvalidSeed on bad input; the
+// mesh is then left untouched. Vertices carry their generation ("v:generation").
+DeformResult deform(Mesh& mesh, const Volume& volume, const DeformOptions& options,
+                    const DeformObserver& observer = {});
+
+}  // namespace gdm

@@ -1,0 +1,78 @@
+// Topological and geometric checks and measurements on triangle meshes.
+//
+// All functions ignore elements marked deleted (they iterate with OpenMesh's
+// skipping ranges) and never modify the mesh.
+#pragma once
+
+#include <cstddef>
+#include <string>
+
+#include "gdm/mesh.h"
+
+namespace gdm {
+
+// True when the mesh has at least one face and no boundary halfedge.
+bool is_closed(const Mesh& mesh);
+
+// True when every edge has exactly two faces and the faces around every
+// vertex form a single closed fan (its link is one cycle). A vertex without
+// faces (isolated vertex) or with several fans (e.g. two cones touching at
+// their tips) makes the mesh non-manifold. A mesh without faces is not one.
+bool is_two_manifold(const Mesh& mesh);
+
+// V - E + F over the non-deleted elements.
+int euler_characteristic(const Mesh& mesh);
+
+// Number of connected components of the faces, where two faces are connected
+// when they share an edge (faces meeting only at a vertex are separate).
+int connected_components(const Mesh& mesh);
+
+// Genus summed over the components: (2 * components - chi) / 2, with chi
+// computed without isolated vertices. For one closed connected orientable
+// surface this is (2 - chi) / 2; for several closed orientable components it
+// is the sum of their genera (two spheres: 0, sphere + torus: 1). Only
+// meaningful for closed orientable meshes (the division truncates).
+int genus(const Mesh& mesh);
+
+// Number of unordered face pairs that intersect improperly, as decided by
+// triangles_intersect_improperly (exact; shared vertices and edges are
+// allowed contacts, fold-overs and any other contact are not). A uniform grid
+// over face bounding boxes limits the exact tests to nearby faces; the result
+// does not depend on the grid.
+std::size_t self_intersecting_pairs(const Mesh& mesh);
+
+// Signed enclosed volume by the divergence theorem: positive when the faces
+// of a closed mesh are oriented with outward normals (counterclockwise seen
+// from outside). Meaningless for open meshes.
+double enclosed_volume(const Mesh& mesh);
+
+// Sum of triangle areas.
+double surface_area(const Mesh& mesh);
+
+// Smallest interior angle of any face, in degrees (0 for a face with a
+// zero-length edge). NaN for a mesh without faces.
+double smallest_angle_degrees(const Mesh& mesh);
+
+// Everything above in one record.
+struct MeshReport {
+  std::size_t vertices = 0;
+  std::size_t faces = 0;
+  std::size_t edges = 0;
+  bool closed = false;
+  bool two_manifold = false;
+  int euler = 0;
+  int genus = 0;
+  int components = 0;
+  std::size_t self_intersections = 0;
+  double volume = 0.0;
+  double area = 0.0;
+  double min_angle_deg = 0.0;
+};
+
+// Measures all fields of MeshReport (self-intersections included).
+MeshReport measure(const Mesh& mesh);
+
+// One readable line, e.g. "V=8 F=12 E=18 closed=yes manifold=yes chi=2 ...".
+std::string to_string(const MeshReport& report);
+
+}  // namespace gdm

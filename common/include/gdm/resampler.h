@@ -1,0 +1,34 @@
+// Resampling of the model (paper section 4): local splitting of faces larger
+// than the level of detail, the global 1-to-4 refinement, and edge flips that
+// keep triangles well shaped.
+#pragma once
+
+#include <cstddef>
+#include <functional>
+
+#include "gdm/mesh.h"
+
+namespace gdm {
+
+// Local resampling: the longest edge of every face whose area exceeds
+// `max_face_area` (mm^2) is split at its midpoint, together with the face on
+// the other side, so all faces stay triangles and the mesh stays conforming
+// (no T-junction). One pass; faces still too large are split again on the next
+// call. New vertices get `generation`. Returns the number of edges split.
+// The new triangles lie inside the old ones, so no split can create an
+// intersection.
+std::size_t split_large_faces(Mesh& mesh, double max_face_area, int generation);
+
+// Global resampling (Fig. 5): every face becomes four by joining the edge
+// midpoints. V, E, F become V + E, 2E + 3F, 4F. New vertices get `generation`.
+void subdivide_all(Mesh& mesh, int generation);
+
+// Edge flips that make the triangulation closer to Delaunay on nearly flat
+// regions (the dihedral angle across the edge within `max_dihedral_deg` of
+// flat). `allow(a, b, c, d)` is asked before each flip with the two triangles
+// (a, b, c) and (a, c, d) that the flip would create; returning false vetoes it
+// (used by the self-intersection guard). Returns the number of flips.
+using FlipVeto = std::function<bool(Mesh::EdgeHandle, const Mesh::VertexHandle (&)[4])>;
+std::size_t flip_to_improve(Mesh& mesh, double max_dihedral_deg, const FlipVeto& allow);
+
+}  // namespace gdm

@@ -1,0 +1,78 @@
+// A scalar volume in physical space: dimensions, spacing, origin and
+// direction cosines, sampled by trilinear interpolation (paper section 3.1.2).
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "gdm/mesh.h"
+
+namespace gdm {
+
+using Index3 = std::array<int, 3>;
+
+// Voxel values are stored x fastest, then y, then z (ITK and MetaImage order).
+// Physical point p of continuous index i: p = origin + direction * (spacing .* i).
+class Volume {
+ public:
+  Volume() = default;
+  // Throws InvalidVolume when the grid cannot be used (dimension below 2,
+  // zero/negative/NaN spacing, singular or NaN direction, wrong value count,
+  // NaN or infinite values).
+  Volume(Index3 dims, std::vector<float> values, Vec3 spacing = Vec3::Ones(),
+         Vec3 origin = Vec3::Zero(), Eigen::Matrix3d direction = Eigen::Matrix3d::Identity());
+
+  const Index3& dims() const { return dims_; }
+  const Vec3& spacing() const { return spacing_; }
+  const Vec3& origin() const { return origin_; }
+  const Eigen::Matrix3d& direction() const { return direction_; }
+  const std::vector<float>& values() const { return values_; }
+  std::size_t voxel_count() const { return values_.size(); }
+
+  // "One voxel" as a length: the smallest spacing.
+  double voxel_size() const { return voxel_size_; }
+
+  // The value returned for points outside the grid (default 0).
+  double outside_value() const { return outside_value_; }
+  void set_outside_value(double v) { outside_value_ = v; }
+
+  float at(int i, int j, int k) const {
+    return values_[static_cast<std::size_t>(i) +
+                   static_cast<std::size_t>(dims_[0]) *
+                       (static_cast<std::size_t>(j) + static_cast<std::size_t>(dims_[1]) * k)];
+  }
+
+  Vec3 to_continuous_index(const Vec3& physical) const { return to_index_ * (physical - origin_); }
+  Vec3 to_physical(const Vec3& index) const { return origin_ + to_physical_ * index; }
+
+  // True when the point lies in the grid's box [0, n-1] per axis, shrunk by
+  // `margin_voxels` (in index units) on every side.
+  bool contains(const Vec3& physical, double margin_voxels = 0.0) const;
+
+  // Trilinear interpolation; outside_value() outside the grid.
+  double sample(const Vec3& physical) const;
+
+  // Smallest and largest voxel value.
+  double min_value() const { return min_value_; }
+  double max_value() const { return max_value_; }
+
+  // Physical bounding box corners of the grid (axis-aligned box of the 8 corners).
+  void physical_bounds(Vec3& lo, Vec3& hi) const;
+
+ private:
+  Index3 dims_{0, 0, 0};
+  std::vector<float> values_;
+  Vec3 spacing_ = Vec3::Ones();
+  Vec3 origin_ = Vec3::Zero();
+  Eigen::Matrix3d direction_ = Eigen::Matrix3d::Identity();
+  Eigen::Matrix3d to_physical_ = Eigen::Matrix3d::Identity();
+  Eigen::Matrix3d to_index_ = Eigen::Matrix3d::Identity();
+  double voxel_size_ = 1.0;
+  double outside_value_ = 0.0;
+  double min_value_ = 0.0;
+  double max_value_ = 0.0;
+};
+
+}  // namespace gdm

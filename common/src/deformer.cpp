@@ -1,0 +1,421 @@
+#include "gdm/deformer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <sstream>
+#include <vector>
+
+#include "gdm/errors.h"
+#include "gdm/intersection_guard.h"
+#include "gdm/parallel.h"
+#include "gdm/resampler.h"
+#include "gdm/seed.h"
+
+namespace gdm {
+
+std::string to_string(StopReason reason) {
+  switch (reason) {
+    case StopReason::converged: return "converged";
+    case StopReason::max_cycles: return "reached the maximum number of cycles";
+    case StopReason::face_limit: return "reached the face limit";
+    case StopReason::cancelled: return "cancelled";
+  }
+  return "unknown";
+}
+
+namespace {
+
+void require(bool ok, const std::string& message) {
+  if (!ok) throw InvalidOption(message);
+}
+
+std::string num(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+double effective_intensity_scale(const DeformOptions& o, const Volume& v) {
+  return o.intensity_scale > 0.0 ? o.intensity_scale : 0.01 * (v.max_value() - v.min_value());
+}
+
+// The largest neighbour separation in a regular ring of equilateral faces of
+// the level-of-detail area A: edge sqrt(4 A / sqrt 3), ring diameter twice that.
+double lod_ring_extent(const DeformOptions& o, double voxel) {
+  return 2.0 * std::sqrt(4.0 * o.lod_face_area / std::sqrt(3.0)) * voxel;
+}
+
+}  // namespace
+
+void validate(const DeformOptions& o, const Volume& volume) {
+  for (auto [name, w] : {std::pair<const char*, double>{"a0", o.a0}, {"a1", o.a1}, {"a2", o.a2}})
+    require(std::isfinite(w) && w >= 0.0, std::string("weight ") + name + " must be finite and >= 0, got " + num(w));
+  require(o.a0 > 0.0, "weight a0 must be > 0: without the deformation potential nothing moves");
+  require(std::isfinite(o.threshold), "the threshold T must be set to a finite value");
+  require(std::isfinite(o.intensity_scale) && o.intensity_scale >= 0.0, "intensity_scale must be >= 0");
+  require(std::isfinite(o.reach) && o.reach > 0.0 && o.reach <= 10.0, "reach must be in (0, 10] voxels");
+  require(o.normal_rings >= 1 && o.normal_rings <= 4, "normal_rings must be in [1, 4]");
+  const auto& s = o.optimizer;
+  require(std::isfinite(s.min_step) && s.min_step > 0.0 && s.min_step <= s.max_step && s.max_step <= 10.0,
+          "steps must satisfy 0 < min_step <= max_step <= 10 voxels, got [" + num(s.min_step) + ", " +
+              num(s.max_step) + "]");
+  require(s.max_step_reductions >= 0 && s.max_step_reductions <= 16, "max_step_reductions must be in [0, 16]");
+  require(std::isfinite(s.gradient_step) && s.gradient_step > 0.0 && s.gradient_step <= 1.0,
+          "gradient_step must be in (0, 1] voxel");
+  require(std::isfinite(o.lod_face_area) && o.lod_face_area >= 0.5,
+          "lod_face_area must be at least 0.5 voxel^2, got " + num(o.lod_face_area));
+  require(o.global_refinements >= 0 && o.global_refinements <= 4, "global_refinements must be in [0, 4]");
+  require(o.max_cycles >= 1, "max_cycles must be >= 1");
+  require(std::isfinite(o.convergence_tolerance) && o.convergence_tolerance > 0.0,
+          "convergence_tolerance must be > 0");
+  require(o.convergence_window >= 1, "convergence_window must be >= 1");
+  require(o.threads >= 0, "threads must be >= 0 (0 = all cores)");
+  require(o.flip_max_dihedral >= 0.0 && o.flip_max_dihedral < 90.0, "flip_max_dihedral must be in [0, 90)");
+  require(o.max_faces >= 20, "max_faces must be at least 20");
+
+  if (volume.voxel_count() == 0) throw InvalidVolume("the volume is empty");
+  if (!(volume.max_value() > volume.min_value()))
+    throw InvalidVolume("the volume is constant (every voxel is " + num(volume.min_value()) +
+                        "): there is no boundary to find");
+  require(o.threshold > volume.min_value() && o.threshold < volume.max_value(),
+          "threshold " + num(o.threshold) + " lies outside the volume's value range (" +
+              num(volume.min_value()) + ", " + num(volume.max_value()) + "): no voxel crosses it");
+}
+
+namespace {
+
+// One deformation run. Each step of a cycle is a small method.
+class Deformer {
+ public:
+  Deformer(Mesh& mesh, const Volume& volume, const DeformOptions& options, const DeformObserver& observer)
+      : mesh_(mesh),
+        volume_(volume),
+        o_(options),
+        observer_(observer),
+        voxel_(volume.voxel_size()),
+        threads_(resolve_thread_count(options.threads)),
+        cost_{DeformationPotential(options.a0, options.reach, voxel_),
+              ImageEvent(options.a1, volume, options.threshold, options.polarity, options.mode,
+                         effective_intensity_scale(options, volume)),
+              TopologyTerm(options.a2, options.lod_topology_extent ? lod_ring_extent(options, voxel_) : 0.0)} {}
+
+  void check_seed() const;
+  DeformResult run();
+
+ private:
+  bool run_cycle(int cycle);
+  void compute_face_normals();
+  VertexNeighbourhood neighbourhood(Mesh::VertexHandle v) const;
+  std::vector<int> evaluate_active(std::vector<StepResult>& steps);
+  std::size_t apply_moves(const std::vector<int>& candidates, const std::vector<StepResult>& steps,
+                          int cycle);
+  std::size_t resample(int cycle);
+  void activate_around(Mesh::VertexHandle v);
+  void grow_per_vertex_state();
+  bool converged(int cycle) const;
+  void start_stage(int cycle);
+  std::size_t count_border_vertices() const;
+
+  Mesh& mesh_;
+  const Volume& volume_;
+  const DeformOptions& o_;
+  const DeformObserver& observer_;
+  double voxel_;
+  int threads_;
+  CostFunction cost_;
+  std::unique_ptr<IntersectionGuard> guard_;
+  std::size_t rejected_earlier_stages_ = 0;
+
+  // Per-vertex state, indexed by vertex handle.
+  std::vector<double> step_;          // adaptive step, voxels
+  std::vector<double> cost_value_;    // last evaluated cost
+  std::vector<char> active_;          // evaluate next cycle
+  std::vector<char> settled_;         // crossed back from the blocked region this stage
+  std::vector<Vec3> anchor_;          // position when last counted as moving
+  std::vector<int> last_change_;      // cycle the vertex last moved beyond the tolerance
+  std::vector<Vec3> face_normal_;     // unnormalised, per face, for the cycle
+  int last_split_cycle_ = 0;
+  std::size_t flips_ = 0;
+  CycleReport report_;
+};
+
+void Deformer::check_seed() const {
+  check_seed_mesh(mesh_);
+  std::size_t free = 0;
+  Vec3 centroid = Vec3::Zero();
+  for (auto v : mesh_.vertices()) {
+    const Vec3 p = to_eigen(mesh_.point(v));
+    if (!volume_.contains(p)) {
+      std::ostringstream s;
+      s << "seed vertex " << v.idx() << " at (" << p.x() << ", " << p.y() << ", " << p.z()
+        << ") mm lies outside the volume";
+      throw InvalidSeed(s.str());
+    }
+    centroid += p;
+    if (!cost_.image.is_blocked(p)) ++free;
+  }
+  centroid /= static_cast<double>(mesh_.n_vertices());
+  if (free == 0 && cost_.image.is_blocked(centroid)) {
+    throw InvalidSeed(o_.mode == Mode::grow
+                          ? "the seed lies entirely outside the object: no seed vertex is on the object's "
+                            "side of the threshold (check the seed point, the threshold and the polarity)"
+                          : "the seed lies entirely inside the object: shrink mode needs a seed around it "
+                            "(check the seed, the threshold and the polarity)");
+  }
+}
+
+void Deformer::grow_per_vertex_state() {
+  const std::size_t n = mesh_.n_vertices();
+  const std::size_t old = step_.size();
+  if (old >= n) return;
+  step_.resize(n, o_.optimizer.max_step);
+  cost_value_.resize(n, 0.0);
+  active_.resize(n, 1);
+  settled_.resize(n, 0);
+  anchor_.resize(n);
+  last_change_.resize(n, 0);
+  for (std::size_t i = old; i < n; ++i) {
+    anchor_[i] = to_eigen(mesh_.point(Mesh::VertexHandle(static_cast<int>(i))));
+    last_change_[i] = report_.cycle;
+  }
+}
+
+void Deformer::start_stage(int cycle) {
+  grow_per_vertex_state();
+  std::fill(active_.begin(), active_.end(), 1);
+  std::fill(settled_.begin(), settled_.end(), 0);
+  std::fill(last_change_.begin(), last_change_.end(), cycle);
+  last_split_cycle_ = cycle;
+  if (guard_) rejected_earlier_stages_ += guard_->statistics().rejected_moves;
+  guard_ = std::make_unique<IntersectionGuard>(mesh_, o_.optimizer.max_step * voxel_, 1e-6 * voxel_ * voxel_);
+}
+
+void Deformer::compute_face_normals() {
+  face_normal_.resize(mesh_.n_faces());
+  parallel_for(mesh_.n_faces(), threads_, [&](std::size_t i) {
+    auto it = mesh_.cfv_iter(Mesh::FaceHandle(static_cast<int>(i)));
+    const Vec3 a = to_eigen(mesh_.point(*it)), b = to_eigen(mesh_.point(*++it)), c = to_eigen(mesh_.point(*++it));
+    face_normal_[i] = (b - a).cross(c - a);  // length = twice the area: area weighting
+  });
+}
+
+VertexNeighbourhood Deformer::neighbourhood(Mesh::VertexHandle v) const {
+  VertexNeighbourhood n;
+  n.position = to_eigen(mesh_.point(v));
+
+  // Normal over the faces within `normal_rings` rings: the faces around v and,
+  // for 2 rings, the faces adjacent to them (section 7: a larger neighbourhood
+  // is more stable; too large is inaccurate).
+  std::vector<int> ring_vertices{v.idx()};
+  std::size_t begin = 0;
+  for (int r = 1; r < o_.normal_rings; ++r) {
+    const std::size_t end = ring_vertices.size();
+    for (std::size_t i = begin; i < end; ++i)
+      for (auto w : mesh_.vv_range(Mesh::VertexHandle(ring_vertices[i]))) ring_vertices.push_back(w.idx());
+    std::sort(ring_vertices.begin() + static_cast<long>(end), ring_vertices.end());
+    ring_vertices.erase(std::unique(ring_vertices.begin() + static_cast<long>(end), ring_vertices.end()),
+                        ring_vertices.end());
+    begin = end;
+  }
+  std::vector<int> faces;
+  for (int u : ring_vertices)
+    for (auto f : mesh_.vf_range(Mesh::VertexHandle(u))) faces.push_back(f.idx());
+  std::sort(faces.begin(), faces.end());
+  faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+  Vec3 normal = Vec3::Zero();
+  for (int f : faces) normal += face_normal_[f];
+  const double len = normal.norm();
+  n.normal = len > 0.0 ? Vec3(normal / len) : Vec3::UnitZ();
+
+  // Eq. 3: centroid of the neighbours and their largest separation.
+  std::vector<Vec3> ring;
+  for (auto w : mesh_.vv_range(v)) ring.push_back(to_eigen(mesh_.point(w)));
+  Vec3 centroid = Vec3::Zero();
+  for (const auto& p : ring) centroid += p;
+  n.ring_centroid = centroid / static_cast<double>(ring.size());
+  double extent2 = 0.0;
+  for (std::size_t j = 0; j < ring.size(); ++j)
+    for (std::size_t k = j + 1; k < ring.size(); ++k) extent2 = std::max(extent2, (ring[j] - ring[k]).squaredNorm());
+  n.ring_extent = extent2 > 0.0 ? std::sqrt(extent2) : voxel_;
+
+  // Section 5: grow moves along the outward normal, shrink against it; a vertex
+  // lying in the region the model must not enter reverses its sense locally.
+  n.sense = o_.mode == Mode::grow ? 1.0 : -1.0;
+  if (o_.local_flip && cost_.image.is_blocked(n.position)) n.sense = -n.sense;
+  return n;
+}
+
+std::vector<int> Deformer::evaluate_active(std::vector<StepResult>& steps) {
+  std::vector<int> active;
+  for (std::size_t i = 0; i < active_.size(); ++i)
+    if (active_[i]) active.push_back(static_cast<int>(i));
+  steps.assign(active.size(), StepResult{});
+  parallel_for(active.size(), threads_, [&](std::size_t k) {
+    const Mesh::VertexHandle v(active[k]);
+    const VertexNeighbourhood n = neighbourhood(v);
+    StepResult r = steepest_descent_step(cost_, n, step_[v.idx()], voxel_, o_.optimizer);
+    // A vertex that came back from the blocked region does not cross into it
+    // again this stage: it would only oscillate around the boundary.
+    if (r.moved && settled_[v.idx()] && cost_.image.is_blocked(r.position) && !cost_.image.is_blocked(n.position)) {
+      r.moved = false;
+      r.position = n.position;
+      r.cost = cost_(n, n.position);
+      r.next_step = o_.optimizer.min_step;
+    }
+    steps[k] = r;
+  });
+  return active;
+}
+
+std::size_t Deformer::apply_moves(const std::vector<int>& candidates, const std::vector<StepResult>& steps,
+                                  int cycle) {
+  std::fill(active_.begin(), active_.end(), 0);
+  // Every vertex moves at most one step this cycle: boxes inflated by the
+  // largest step stay valid until the next rebuild.
+  if (o_.prevent_self_intersection) guard_->rebuild();
+  std::size_t moved = 0;
+  // In vertex order, one at a time: each accepted move is seen by the next
+  // check, and the outcome does not depend on the thread count.
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    const int i = candidates[k];
+    const StepResult& r = steps[k];
+    cost_value_[i] = r.cost;
+    step_[i] = r.next_step;
+    if (!r.moved) continue;
+    const Mesh::VertexHandle v(i);
+    if (o_.prevent_self_intersection && !guard_->move_is_safe(v, r.position)) {
+      step_[i] = o_.optimizer.min_step;
+      active_[i] = 1;  // its neighbours may move out of the way
+      continue;
+    }
+    const bool was_blocked = cost_.image.is_blocked(to_eigen(mesh_.point(v)));
+    mesh_.set_point(v, to_point(r.position));
+    if (was_blocked && !cost_.image.is_blocked(r.position)) settled_[i] = 1;
+    if ((r.position - anchor_[i]).norm() > o_.convergence_tolerance * voxel_) {
+      anchor_[i] = r.position;
+      last_change_[i] = cycle;
+    }
+    ++moved;
+    activate_around(v);
+  }
+  return moved;
+}
+
+void Deformer::activate_around(Mesh::VertexHandle v) {
+  // A vertex's cost depends on the faces within normal_rings rings (normal)
+  // and on its 1-ring (eq. 3): wake every vertex that close.
+  std::vector<int> frontier{v.idx()};
+  active_[v.idx()] = 1;
+  for (int r = 0; r < std::max(1, o_.normal_rings); ++r) {
+    std::vector<int> next;
+    for (int u : frontier)
+      for (auto w : mesh_.vv_range(Mesh::VertexHandle(u))) {
+        if (!active_[w.idx()]) next.push_back(w.idx());
+        active_[w.idx()] = 1;
+      }
+    frontier.swap(next);
+  }
+}
+
+std::size_t Deformer::resample(int cycle) {
+  const std::size_t before = mesh_.n_vertices();
+  const double max_area = o_.lod_face_area * voxel_ * voxel_;
+  const std::size_t splits = split_large_faces(mesh_, max_area, cycle);
+  grow_per_vertex_state();
+  for (std::size_t i = before; i < mesh_.n_vertices(); ++i) activate_around(Mesh::VertexHandle(static_cast<int>(i)));
+  if (splits > 0) last_split_cycle_ = cycle;
+  if (splits > 0 && o_.prevent_self_intersection) guard_->rebuild();
+  if (o_.improve_triangles) {
+    const FlipVeto veto = [&](Mesh::EdgeHandle e, const Mesh::VertexHandle (&quad)[4]) {
+      if (o_.prevent_self_intersection && !guard_->flip_is_safe(e, quad)) return false;
+      for (auto q : quad) activate_around(q);
+      return true;
+    };
+    flips_ += flip_to_improve(mesh_, o_.flip_max_dihedral, veto);
+  }
+  return splits;
+}
+
+bool Deformer::converged(int cycle) const {
+  if (cycle - last_split_cycle_ < o_.convergence_window) return false;
+  const int newest = *std::max_element(last_change_.begin(), last_change_.end());
+  return cycle - newest >= o_.convergence_window;
+}
+
+bool Deformer::run_cycle(int cycle) {
+  report_.cycle = cycle;
+  compute_face_normals();
+  std::vector<StepResult> steps;
+  const std::vector<int> candidates = evaluate_active(steps);
+  report_.evaluated = candidates.size();
+  report_.moved = apply_moves(candidates, steps, cycle);
+  report_.splits = resample(cycle);
+  report_.vertices = mesh_.n_vertices();
+  report_.faces = mesh_.n_faces();
+  double sum = 0.0;
+  for (double c : cost_value_) sum += std::isfinite(c) ? c : 0.0;
+  report_.mean_cost = cost_value_.empty() ? 0.0 : sum / static_cast<double>(cost_value_.size());
+  return !observer_ || observer_(report_);
+}
+
+std::size_t Deformer::count_border_vertices() const {
+  std::size_t n = 0;
+  for (auto v : mesh_.vertices())
+    if (!volume_.contains(to_eigen(mesh_.point(v)), 1.0)) ++n;
+  return n;
+}
+
+DeformResult Deformer::run() {
+  DeformResult result;
+  generation_property(mesh_);
+  start_stage(0);
+  int cycle = 0;
+  while (true) {
+    if (cycle >= o_.max_cycles) {
+      result.reason = StopReason::max_cycles;
+      break;
+    }
+    ++cycle;
+    if (!run_cycle(cycle)) {
+      result.reason = StopReason::cancelled;
+      break;
+    }
+    if (mesh_.n_faces() > o_.max_faces) {
+      result.reason = StopReason::face_limit;
+      break;
+    }
+    if (!converged(cycle)) continue;
+    if (report_.stage >= o_.global_refinements) {
+      result.reason = StopReason::converged;
+      break;
+    }
+    // Section 6: after a first convergence, refine globally and converge again.
+    subdivide_all(mesh_, cycle);
+    ++report_.stage;
+    step_.clear();
+    cost_value_.clear();
+    active_.clear();
+    settled_.clear();
+    anchor_.clear();
+    last_change_.clear();
+    start_stage(cycle);
+  }
+  result.cycles = cycle;
+  result.global_refinements = report_.stage;
+  result.rejected_moves = rejected_earlier_stages_ + guard_->statistics().rejected_moves;
+  result.flips = flips_;
+  result.border_vertices = count_border_vertices();
+  return result;
+}
+
+}  // namespace
+
+DeformResult deform(Mesh& mesh, const Volume& volume, const DeformOptions& options, const DeformObserver& observer) {
+  validate(options, volume);
+  Deformer deformer(mesh, volume, options, observer);
+  deformer.check_seed();
+  return deformer.run();
+}
+
+}  // namespace gdm

@@ -1,0 +1,177 @@
+#include "gdm/intersection_guard.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "gdm/predicates.h"
+
+namespace gdm {
+
+// ---- FaceGrid -------------------------------------------------------------
+
+FaceGrid::Key FaceGrid::key(int x, int y, int z) const {
+  // 21 bits per axis, offset so that negative cells map to distinct keys.
+  const auto u = [](int v) { return static_cast<Key>(static_cast<std::uint32_t>(v + (1 << 20)) & 0x1fffff); };
+  return (u(x) << 42) | (u(y) << 21) | u(z);
+}
+
+std::array<int, 3> FaceGrid::cell_of(const Vec3& p) const {
+  return {static_cast<int>(std::floor(p.x() / cell_size_)), static_cast<int>(std::floor(p.y() / cell_size_)),
+          static_cast<int>(std::floor(p.z() / cell_size_))};
+}
+
+void FaceGrid::insert_box(int face, Vec3 lo, Vec3 hi) {
+  lo.array() -= margin_;
+  hi.array() += margin_;
+  const auto a = cell_of(lo), b = cell_of(hi);
+  for (int x = a[0]; x <= b[0]; ++x)
+    for (int y = a[1]; y <= b[1]; ++y)
+      for (int z = a[2]; z <= b[2]; ++z) cells_[key(x, y, z)].push_back(face);
+}
+
+void FaceGrid::rebuild(const Mesh& mesh, double cell_size, double margin) {
+  cell_size_ = cell_size;
+  margin_ = margin;
+  for (auto& [k, list] : cells_) list.clear();
+  stamp_.assign(mesh.n_faces(), 0);
+  current_stamp_ = 0;
+  for (auto f : mesh.faces()) insert(mesh, f);
+}
+
+void FaceGrid::insert(const Mesh& mesh, Mesh::FaceHandle f) {
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (auto v : mesh.fv_range(f)) {
+    const Vec3 p = to_eigen(mesh.point(v));
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  if (static_cast<std::size_t>(f.idx()) >= stamp_.size()) stamp_.resize(f.idx() + 1, 0);
+  insert_box(f.idx(), lo, hi);
+}
+
+template <class Visit>
+void FaceGrid::for_each_near(const Vec3& lo, const Vec3& hi, Visit&& visit) {
+  if (++current_stamp_ == 0) {
+    std::fill(stamp_.begin(), stamp_.end(), 0);
+    current_stamp_ = 1;
+  }
+  const auto a = cell_of(lo), b = cell_of(hi);
+  for (int x = a[0]; x <= b[0]; ++x)
+    for (int y = a[1]; y <= b[1]; ++y)
+      for (int z = a[2]; z <= b[2]; ++z) {
+        const auto it = cells_.find(key(x, y, z));
+        if (it == cells_.end()) continue;
+        for (int f : it->second) {
+          if (stamp_[f] == current_stamp_) continue;
+          stamp_[f] = current_stamp_;
+          visit(f);
+        }
+      }
+}
+
+// ---- IntersectionGuard ----------------------------------------------------
+
+namespace {
+
+double mean_edge_length(const Mesh& mesh) {
+  double sum = 0.0;
+  for (auto e : mesh.edges()) sum += mesh.calc_edge_length(e);
+  return mesh.n_edges() ? sum / mesh.n_edges() : 1.0;
+}
+
+}  // namespace
+
+IntersectionGuard::IntersectionGuard(const Mesh& mesh, double margin, double min_face_area)
+    : mesh_(&mesh), margin_(margin), min_face_area_(min_face_area) {
+  rebuild();
+}
+
+void IntersectionGuard::rebuild() {
+  const double cell = std::max(2.0 * mean_edge_length(*mesh_), 4.0 * margin_);
+  grid_.rebuild(*mesh_, cell > 0.0 ? cell : 1.0, margin_);
+}
+
+IntersectionGuard::Triangle IntersectionGuard::face_triangle(int face, int moved_vertex,
+                                                             const Vec3& moved_to) const {
+  Triangle t;
+  int i = 0;
+  for (auto v : mesh_->fv_range(Mesh::FaceHandle(face))) {
+    t.id[i] = v.idx();
+    t.p[i] = v.idx() == moved_vertex ? moved_to : to_eigen(mesh_->point(v));
+    ++i;
+  }
+  return t;
+}
+
+bool IntersectionGuard::triangle_is_clear(const Triangle& t, const std::vector<int>& ignore_faces,
+                                          int moved_vertex, const Vec3& moved_to) {
+  const Vec3 lo = t.p[0].cwiseMin(t.p[1]).cwiseMin(t.p[2]);
+  const Vec3 hi = t.p[0].cwiseMax(t.p[1]).cwiseMax(t.p[2]);
+  bool clear = true;
+  grid_.for_each_near(lo, hi, [&](int g) {
+    if (!clear || std::find(ignore_faces.begin(), ignore_faces.end(), g) != ignore_faces.end()) return;
+    const Triangle other = face_triangle(g, moved_vertex, moved_to);
+    const Vec3 olo = other.p[0].cwiseMin(other.p[1]).cwiseMin(other.p[2]);
+    const Vec3 ohi = other.p[0].cwiseMax(other.p[1]).cwiseMax(other.p[2]);
+    if ((olo.array() > hi.array()).any() || (ohi.array() < lo.array()).any()) return;
+    if (triangles_intersect_improperly(t.p, t.id, other.p, other.id)) clear = false;
+  });
+  return clear;
+}
+
+bool IntersectionGuard::move_is_safe(Mesh::VertexHandle v, const Vec3& p) {
+  std::vector<int> ring_faces;
+  for (auto f : mesh_->vf_range(v)) ring_faces.push_back(f.idx());
+  for (int f : ring_faces) {
+    const Triangle before = face_triangle(f, -1, p);
+    const Triangle after = face_triangle(f, v.idx(), p);
+    const Vec3 n_before = (before.p[1] - before.p[0]).cross(before.p[2] - before.p[0]);
+    const Vec3 n_after = (after.p[1] - after.p[0]).cross(after.p[2] - after.p[0]);
+    if (0.5 * n_after.norm() < min_face_area_ || n_after.dot(n_before) <= 0.0) {
+      ++stats_.rejected_moves;
+      return false;
+    }
+  }
+  for (int f : ring_faces) {
+    // Pairs within the ring are checked too (their shared vertex is known to
+    // the predicate), so a fan cannot fold over itself.
+    const std::vector<int> ignore{f};
+    if (!triangle_is_clear(face_triangle(f, v.idx(), p), ignore, v.idx(), p)) {
+      ++stats_.rejected_moves;
+      return false;
+    }
+  }
+  return true;
+}
+
+bool IntersectionGuard::flip_is_safe(Mesh::EdgeHandle e, const Mesh::VertexHandle (&q)[4]) {
+  const auto h = mesh_->halfedge_handle(e, 0);
+  const std::vector<int> ignore{mesh_->face_handle(h).idx(),
+                                mesh_->face_handle(mesh_->opposite_halfedge_handle(h)).idx()};
+  const auto tri = [&](Mesh::VertexHandle a, Mesh::VertexHandle b, Mesh::VertexHandle c) {
+    Triangle t;
+    t.id = {a.idx(), b.idx(), c.idx()};
+    t.p = {to_eigen(mesh_->point(a)), to_eigen(mesh_->point(b)), to_eigen(mesh_->point(c))};
+    return t;
+  };
+  const Triangle t0 = tri(q[0], q[1], q[3]), t1 = tri(q[2], q[3], q[1]);
+  for (const Triangle* t : {&t0, &t1}) {
+    const double area = 0.5 * (t->p[1] - t->p[0]).cross(t->p[2] - t->p[0]).norm();
+    if (area < min_face_area_ || !triangle_is_clear(*t, ignore, -1, Vec3::Zero())) {
+      ++stats_.rejected_flips;
+      return false;
+    }
+  }
+  // The two new faces against each other share the new edge q1-q3.
+  if (triangles_intersect_improperly(t0.p, t0.id, t1.p, t1.id)) {
+    ++stats_.rejected_flips;
+    return false;
+  }
+  // The flip keeps both face handles: register their new boxes.
+  for (int f : ignore)
+    for (const Triangle* t : {&t0, &t1})
+      grid_.insert_box(f, t->p[0].cwiseMin(t->p[1]).cwiseMin(t->p[2]), t->p[0].cwiseMax(t->p[1]).cwiseMax(t->p[2]));
+  return true;
+}
+
+}  // namespace gdm

@@ -1,0 +1,302 @@
+// Topological and geometric checks and measurements on triangle meshes.
+#include "gdm/mesh_checks.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <sstream>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "gdm/predicates.h"
+
+namespace gdm {
+namespace {
+
+// Corner positions and vertex ids of a triangle face.
+struct FaceData {
+  std::array<Vec3, 3> points;
+  std::array<int, 3> ids;
+  Vec3 lo, hi;  // bounding box
+};
+
+std::vector<FaceData> collect_faces(const Mesh& mesh) {
+  std::vector<FaceData> faces;
+  faces.reserve(mesh.n_faces());
+  for (const auto f : mesh.faces()) {
+    FaceData data;
+    int k = 0;
+    for (const auto v : mesh.fv_range(f)) {
+      if (k == 3) break;  // TriMesh faces have three corners
+      data.points[k] = to_eigen(mesh.point(v));
+      data.ids[k] = v.idx();
+      ++k;
+    }
+    if (k != 3) continue;
+    data.lo = data.points[0].cwiseMin(data.points[1]).cwiseMin(data.points[2]);
+    data.hi = data.points[0].cwiseMax(data.points[1]).cwiseMax(data.points[2]);
+    faces.push_back(data);
+  }
+  return faces;
+}
+
+inline bool boxes_overlap(const FaceData& a, const FaceData& b) {
+  return (a.lo.array() <= b.hi.array()).all() &&
+         (b.lo.array() <= a.hi.array()).all();
+}
+
+// Union-find with path halving.
+int find_root(std::vector<int>& parent, int i) {
+  while (parent[i] != i) {
+    parent[i] = parent[parent[i]];
+    i = parent[i];
+  }
+  return i;
+}
+
+int count_isolated_vertices(const Mesh& mesh) {
+  int isolated = 0;
+  for (const auto v : mesh.vertices())
+    if (mesh.is_isolated(v)) ++isolated;
+  return isolated;
+}
+
+}  // namespace
+
+bool is_closed(const Mesh& mesh) {
+  bool any_face = false;
+  for (const auto f : mesh.faces()) {
+    (void)f;
+    any_face = true;
+    break;
+  }
+  if (!any_face) return false;
+  for (const auto h : mesh.halfedges())
+    if (mesh.is_boundary(h)) return false;
+  return true;
+}
+
+bool is_two_manifold(const Mesh& mesh) {
+  if (!is_closed(mesh)) return false;  // every edge needs two faces
+  // Outgoing halfedges per vertex, counted from the halfedge list, against
+  // those reached by circulating the vertex's fan: a vertex with several
+  // fans has halfedges its circulator never reaches.
+  std::vector<int> outgoing(mesh.n_vertices(), 0);
+  for (const auto h : mesh.halfedges())
+    ++outgoing[mesh.from_vertex_handle(h).idx()];
+  for (const auto v : mesh.vertices()) {
+    if (outgoing[v.idx()] == 0) return false;  // isolated vertex
+    int in_fan = 0;
+    for (const auto h : mesh.voh_range(v)) {
+      (void)h;
+      ++in_fan;
+      if (in_fan > outgoing[v.idx()]) return false;  // corrupt cycle
+    }
+    if (in_fan != outgoing[v.idx()]) return false;
+  }
+  return true;
+}
+
+int euler_characteristic(const Mesh& mesh) {
+  int v = 0, e = 0, f = 0;
+  for (const auto vh : mesh.vertices()) (void)vh, ++v;
+  for (const auto eh : mesh.edges()) (void)eh, ++e;
+  for (const auto fh : mesh.faces()) (void)fh, ++f;
+  return v - e + f;
+}
+
+int connected_components(const Mesh& mesh) {
+  std::vector<int> parent(mesh.n_faces());
+  std::iota(parent.begin(), parent.end(), 0);
+  for (const auto e : mesh.edges()) {
+    const auto f0 = mesh.face_handle(mesh.halfedge_handle(e, 0));
+    const auto f1 = mesh.face_handle(mesh.halfedge_handle(e, 1));
+    if (!f0.is_valid() || !f1.is_valid()) continue;
+    const int r0 = find_root(parent, f0.idx()), r1 = find_root(parent, f1.idx());
+    if (r0 != r1) parent[std::max(r0, r1)] = std::min(r0, r1);
+  }
+  int components = 0;
+  for (const auto f : mesh.faces())
+    if (find_root(parent, f.idx()) == f.idx()) ++components;
+  return components;
+}
+
+int genus(const Mesh& mesh) {
+  const int chi = euler_characteristic(mesh) - count_isolated_vertices(mesh);
+  return (2 * connected_components(mesh) - chi) / 2;
+}
+
+std::size_t self_intersecting_pairs(const Mesh& mesh) {
+  const std::vector<FaceData> faces = collect_faces(mesh);
+  const int n = static_cast<int>(faces.size());
+  if (n < 2) return 0;
+
+  // Grid: cell size twice the mean face extent (so a face spans few cells),
+  // but at least 1e-6 of the mesh's bounding-box diagonal so that cell
+  // indices stay small.
+  Vec3 lo = faces[0].lo, hi = faces[0].hi;
+  double mean_extent = 0.0;
+  for (const FaceData& f : faces) {
+    lo = lo.cwiseMin(f.lo);
+    hi = hi.cwiseMax(f.hi);
+    mean_extent += (f.hi - f.lo).maxCoeff();
+  }
+  mean_extent /= n;
+  double cell = std::max(2.0 * mean_extent, 1e-6 * (hi - lo).norm());
+  if (!(cell > 0.0) || !std::isfinite(cell)) cell = 1.0;
+
+  // Monotone in x, so a box [lo, hi] covers cells cell_of(lo)..cell_of(hi).
+  auto cell_of = [&](double x, int k) {
+    return static_cast<int>(std::floor((x - lo[k]) / cell));
+  };
+
+  auto test = [&](int i, int j) {
+    return triangles_intersect_improperly(faces[i].points, faces[i].ids,
+                                          faces[j].points, faces[j].ids);
+  };
+
+  // Faces spanning very many cells (a few huge triangles among many small
+  // ones) are kept out of the grid and tested against all faces directly.
+  constexpr long kMaxCellsPerFace = 512;
+  struct Entry {
+    std::array<int, 3> key;
+    int face;
+    bool operator<(const Entry& o) const {
+      return key != o.key ? key < o.key : face < o.face;
+    }
+  };
+  std::vector<Entry> entries;
+  std::vector<int> oversize;
+  std::vector<bool> is_oversize(n, false);
+  for (int i = 0; i < n; ++i) {
+    std::array<int, 3> c0, c1;
+    long count = 1;
+    for (int k = 0; k < 3; ++k) {
+      c0[k] = cell_of(faces[i].lo[k], k);
+      c1[k] = cell_of(faces[i].hi[k], k);
+      count *= static_cast<long>(c1[k] - c0[k] + 1);
+    }
+    if (count > kMaxCellsPerFace) {
+      oversize.push_back(i);
+      is_oversize[i] = true;
+      continue;
+    }
+    for (int x = c0[0]; x <= c1[0]; ++x)
+      for (int y = c0[1]; y <= c1[1]; ++y)
+        for (int z = c0[2]; z <= c1[2]; ++z)
+          entries.push_back({{x, y, z}, i});
+  }
+  std::sort(entries.begin(), entries.end());
+
+  std::size_t pairs = 0;
+  // Each overlapping pair shares the cell containing the low corner of the
+  // intersection of their boxes; it is tested only in that cell.
+  for (std::size_t begin = 0; begin < entries.size();) {
+    std::size_t end = begin;
+    while (end < entries.size() && entries[end].key == entries[begin].key)
+      ++end;
+    const std::array<int, 3>& key = entries[begin].key;
+    for (std::size_t a = begin; a < end; ++a) {
+      const int i = entries[a].face;
+      for (std::size_t b = a + 1; b < end; ++b) {
+        const int j = entries[b].face;
+        if (!boxes_overlap(faces[i], faces[j])) continue;
+        bool home = true;
+        for (int k = 0; k < 3 && home; ++k)
+          home = cell_of(std::max(faces[i].lo[k], faces[j].lo[k]), k) == key[k];
+        if (home && test(i, j)) ++pairs;
+      }
+    }
+    begin = end;
+  }
+  // Oversize faces against all faces (each oversize-oversize pair once).
+  for (const int i : oversize) {
+    for (int j = 0; j < n; ++j) {
+      if (j == i || (is_oversize[j] && j < i)) continue;
+      if (boxes_overlap(faces[i], faces[j]) && test(i, j)) ++pairs;
+    }
+  }
+  return pairs;
+}
+
+double enclosed_volume(const Mesh& mesh) {
+  // Sum of signed tetrahedra (reference, a, b, c); the reference point is the
+  // bounding-box centre, which keeps the terms small for meshes far from the
+  // origin (the sum does not depend on it for closed meshes).
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity());
+  Vec3 hi = -lo;
+  for (const auto v : mesh.vertices()) {
+    const Vec3 p = to_eigen(mesh.point(v));
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  if (!(lo.array() <= hi.array()).all()) return 0.0;
+  const Vec3 reference = 0.5 * (lo + hi);
+  double six_volume = 0.0;
+  for (const FaceData& f : collect_faces(mesh)) {
+    const Vec3 a = f.points[0] - reference, b = f.points[1] - reference,
+               c = f.points[2] - reference;
+    six_volume += a.dot(b.cross(c));
+  }
+  return six_volume / 6.0;
+}
+
+double surface_area(const Mesh& mesh) {
+  double twice_area = 0.0;
+  for (const FaceData& f : collect_faces(mesh))
+    twice_area +=
+        (f.points[1] - f.points[0]).cross(f.points[2] - f.points[0]).norm();
+  return 0.5 * twice_area;
+}
+
+double smallest_angle_degrees(const Mesh& mesh) {
+  double smallest = std::numeric_limits<double>::infinity();
+  bool any = false;
+  for (const FaceData& f : collect_faces(mesh)) {
+    any = true;
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 u = f.points[(k + 1) % 3] - f.points[k];
+      const Vec3 w = f.points[(k + 2) % 3] - f.points[k];
+      // atan2 of |u x w| and u . w is accurate for small and large angles.
+      smallest = std::min(smallest, std::atan2(u.cross(w).norm(), u.dot(w)));
+    }
+  }
+  if (!any) return std::numeric_limits<double>::quiet_NaN();
+  return smallest * (180.0 / 3.14159265358979323846);
+}
+
+MeshReport measure(const Mesh& mesh) {
+  MeshReport r;
+  for (const auto v : mesh.vertices()) (void)v, ++r.vertices;
+  for (const auto f : mesh.faces()) (void)f, ++r.faces;
+  for (const auto e : mesh.edges()) (void)e, ++r.edges;
+  r.closed = is_closed(mesh);
+  r.two_manifold = is_two_manifold(mesh);
+  r.euler = euler_characteristic(mesh);
+  r.genus = genus(mesh);
+  r.components = connected_components(mesh);
+  r.self_intersections = self_intersecting_pairs(mesh);
+  r.volume = enclosed_volume(mesh);
+  r.area = surface_area(mesh);
+  r.min_angle_deg = smallest_angle_degrees(mesh);
+  return r;
+}
+
+std::string to_string(const MeshReport& r) {
+  std::ostringstream out;
+  out.precision(6);
+  out << "V=" << r.vertices << " F=" << r.faces << " E=" << r.edges
+      << " closed=" << (r.closed ? "yes" : "no")
+      << " two_manifold=" << (r.two_manifold ? "yes" : "no")
+      << " chi=" << r.euler << " genus=" << r.genus
+      << " components=" << r.components
+      << " self_intersections=" << r.self_intersections
+      << " volume=" << r.volume << " area=" << r.area
+      << " min_angle_deg=" << r.min_angle_deg;
+  return out.str();
+}
+
+}  // namespace gdm

@@ -1,0 +1,117 @@
+#include "gdm/resampler.h"
+
+#include <cmath>
+#include <utility>
+#include <vector>
+
+namespace gdm {
+
+namespace {
+
+Vec3 pos(const Mesh& mesh, Mesh::VertexHandle v) { return to_eigen(mesh.point(v)); }
+
+double face_area(const Mesh& mesh, Mesh::FaceHandle f) {
+  auto it = mesh.cfv_iter(f);
+  const Vec3 a = pos(mesh, *it), b = pos(mesh, *++it), c = pos(mesh, *++it);
+  return 0.5 * (b - a).cross(c - a).norm();
+}
+
+double angle_at(const Vec3& apex, const Vec3& p, const Vec3& q) {
+  const Vec3 u = p - apex, w = q - apex;
+  return std::atan2(u.cross(w).norm(), u.dot(w));
+}
+
+}  // namespace
+
+std::size_t split_large_faces(Mesh& mesh, double max_face_area, int generation) {
+  const auto gen = generation_property(mesh);
+  std::vector<char> marked(mesh.n_edges(), 0);
+  std::vector<std::pair<Mesh::VertexHandle, Mesh::VertexHandle>> to_split;
+  for (auto f : mesh.faces()) {
+    if (face_area(mesh, f) <= max_face_area) continue;
+    Mesh::HalfedgeHandle longest;
+    double best = -1.0;
+    for (auto h : mesh.fh_range(f)) {
+      const double len = (pos(mesh, mesh.to_vertex_handle(h)) - pos(mesh, mesh.from_vertex_handle(h))).squaredNorm();
+      if (len > best) {
+        best = len;
+        longest = h;
+      }
+    }
+    const auto e = mesh.edge_handle(longest);
+    if (marked[e.idx()]) continue;
+    marked[e.idx()] = 1;
+    to_split.emplace_back(mesh.from_vertex_handle(longest), mesh.to_vertex_handle(longest));
+  }
+  // Split by endpoints: an earlier split may have renamed the edge handle.
+  for (const auto& [a, b] : to_split) {
+    const auto h = mesh.find_halfedge(a, b);
+    if (!h.is_valid()) continue;
+    const auto mid = mesh.add_vertex(to_point(0.5 * (pos(mesh, a) + pos(mesh, b))));
+    mesh.property(gen, mid) = generation;
+    mesh.split(mesh.edge_handle(h), mid);
+  }
+  return to_split.size();
+}
+
+void subdivide_all(Mesh& mesh, int generation) {
+  const auto gen = generation_property(mesh);
+  Mesh refined;
+  const auto refined_gen = generation_property(refined);
+  for (auto v : mesh.vertices()) {
+    const auto nv = refined.add_vertex(mesh.point(v));
+    refined.property(refined_gen, nv) = mesh.property(gen, v);
+  }
+  std::vector<Mesh::VertexHandle> midpoint(mesh.n_edges());
+  for (auto e : mesh.edges()) {
+    const auto h = mesh.halfedge_handle(e, 0);
+    const Vec3 m = 0.5 * (pos(mesh, mesh.from_vertex_handle(h)) + pos(mesh, mesh.to_vertex_handle(h)));
+    midpoint[e.idx()] = refined.add_vertex(to_point(m));
+    refined.property(refined_gen, midpoint[e.idx()]) = generation;
+  }
+  for (auto f : mesh.faces()) {
+    Mesh::VertexHandle corner[3], mid[3];
+    int i = 0;
+    for (auto h : mesh.fh_range(f)) {
+      // corner[i] starts halfedge h; mid[i] is the midpoint of h.
+      corner[i] = Mesh::VertexHandle(mesh.from_vertex_handle(h).idx());
+      mid[i] = midpoint[mesh.edge_handle(h).idx()];
+      ++i;
+    }
+    refined.add_face(corner[0], mid[0], mid[2]);
+    refined.add_face(corner[1], mid[1], mid[0]);
+    refined.add_face(corner[2], mid[2], mid[1]);
+    refined.add_face(mid[0], mid[1], mid[2]);
+  }
+  mesh = std::move(refined);
+}
+
+std::size_t flip_to_improve(Mesh& mesh, double max_dihedral_deg, const FlipVeto& allow) {
+  const double min_normal_dot = std::cos(max_dihedral_deg * M_PI / 180.0);
+  std::size_t flips = 0;
+  for (auto e : mesh.edges()) {
+    if (mesh.is_boundary(e)) continue;
+    const auto h0 = mesh.halfedge_handle(e, 0), h1 = mesh.halfedge_handle(e, 1);
+    const auto v0 = mesh.from_vertex_handle(h0), v1 = mesh.to_vertex_handle(h0);
+    const auto a = mesh.to_vertex_handle(mesh.next_halfedge_handle(h0));
+    const auto b = mesh.to_vertex_handle(mesh.next_halfedge_handle(h1));
+    if (a == b || mesh.valence(v0) <= 3 || mesh.valence(v1) <= 3) continue;
+    const Vec3 p0 = pos(mesh, v0), p1 = pos(mesh, v1), pa = pos(mesh, a), pb = pos(mesh, b);
+    // Delaunay criterion: flip when the angles opposite the edge add up past pi.
+    if (angle_at(pa, p0, p1) + angle_at(pb, p0, p1) <= M_PI + 1e-9) continue;
+    const Vec3 n0 = (p1 - p0).cross(pa - p0), n1 = (p0 - p1).cross(pb - p1);
+    if (n0.normalized().dot(n1.normalized()) < min_normal_dot) continue;
+    // The new faces (v0, b, a) and (v1, a, b) must keep the orientation.
+    const Vec3 m0 = (pb - p0).cross(pa - p0), m1 = (pa - p1).cross(pb - p1);
+    const Vec3 old_n = n0 + n1;
+    if (m0.dot(old_n) <= 0.0 || m1.dot(old_n) <= 0.0) continue;
+    if (!mesh.is_flip_ok(e)) continue;
+    const Mesh::VertexHandle quad[4] = {v0, b, v1, a};
+    if (allow && !allow(e, quad)) continue;
+    mesh.flip(e);
+    ++flips;
+  }
+  return flips;
+}
+
+}  // namespace gdm

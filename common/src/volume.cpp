@@ -1,0 +1,111 @@
+#include "gdm/volume.h"
+
+#include <cmath>
+#include <sstream>
+
+#include <Eigen/LU>
+
+#include "gdm/errors.h"
+
+namespace gdm {
+
+namespace {
+
+std::string vec_string(const Vec3& v) {
+  std::ostringstream s;
+  s << "(" << v.x() << ", " << v.y() << ", " << v.z() << ")";
+  return s.str();
+}
+
+}  // namespace
+
+Volume::Volume(Index3 dims, std::vector<float> values, Vec3 spacing, Vec3 origin,
+               Eigen::Matrix3d direction)
+    : dims_(dims),
+      values_(std::move(values)),
+      spacing_(spacing),
+      origin_(origin),
+      direction_(direction) {
+  for (int a = 0; a < 3; ++a) {
+    if (dims_[a] < 2)
+      throw InvalidVolume("volume dimension " + std::to_string(a) + " is " +
+                          std::to_string(dims_[a]) + "; every dimension needs at least 2 voxels");
+    if (!std::isfinite(spacing_[a]) || spacing_[a] <= 0.0)
+      throw InvalidVolume("volume spacing " + vec_string(spacing_) +
+                          " is not usable: every spacing must be finite and positive");
+    if (!std::isfinite(origin_[a]))
+      throw InvalidVolume("volume origin " + vec_string(origin_) + " is not finite");
+  }
+  const std::size_t expected = static_cast<std::size_t>(dims_[0]) * dims_[1] * dims_[2];
+  if (values_.size() != expected)
+    throw InvalidVolume("volume has " + std::to_string(values_.size()) + " values but " +
+                        std::to_string(dims_[0]) + "x" + std::to_string(dims_[1]) + "x" +
+                        std::to_string(dims_[2]) + " needs " + std::to_string(expected));
+  if (!direction_.allFinite() || std::abs(direction_.determinant()) < 1e-6)
+    throw InvalidVolume("volume direction matrix is singular or not finite");
+
+  to_physical_ = direction_ * spacing_.asDiagonal();
+  to_index_ = to_physical_.inverse();
+  voxel_size_ = spacing_.minCoeff();
+
+  std::size_t bad = 0;
+  min_value_ = std::numeric_limits<double>::infinity();
+  max_value_ = -std::numeric_limits<double>::infinity();
+  for (float v : values_) {
+    if (!std::isfinite(v)) {
+      ++bad;
+      continue;
+    }
+    min_value_ = std::min<double>(min_value_, v);
+    max_value_ = std::max<double>(max_value_, v);
+  }
+  if (bad > 0)
+    throw InvalidVolume("volume holds " + std::to_string(bad) + " NaN or infinite values");
+}
+
+bool Volume::contains(const Vec3& physical, double margin_voxels) const {
+  const Vec3 c = to_continuous_index(physical);
+  for (int a = 0; a < 3; ++a) {
+    if (!(c[a] >= margin_voxels && c[a] <= dims_[a] - 1 - margin_voxels)) return false;
+  }
+  return true;
+}
+
+double Volume::sample(const Vec3& physical) const {
+  const Vec3 c = to_continuous_index(physical);
+  int base[3];
+  double frac[3];
+  for (int a = 0; a < 3; ++a) {
+    // The negated test also sends NaN coordinates outside.
+    if (!(c[a] >= 0.0 && c[a] <= dims_[a] - 1)) return outside_value_;
+    int b = static_cast<int>(c[a]);
+    if (b >= dims_[a] - 1) b = dims_[a] - 2;  // the upper face of the grid
+    base[a] = b;
+    frac[a] = c[a] - b;
+  }
+  const std::size_t sx = 1, sy = static_cast<std::size_t>(dims_[0]),
+                    sz = sy * static_cast<std::size_t>(dims_[1]);
+  const float* p = values_.data() + base[0] * sx + base[1] * sy + base[2] * sz;
+  const double fx = frac[0], fy = frac[1], fz = frac[2];
+  const double c00 = p[0] + fx * (p[sx] - p[0]);
+  const double c10 = p[sy] + fx * (p[sy + sx] - p[sy]);
+  const double c01 = p[sz] + fx * (p[sz + sx] - p[sz]);
+  const double c11 = p[sz + sy] + fx * (p[sz + sy + sx] - p[sz + sy]);
+  const double c0 = c00 + fy * (c10 - c00);
+  const double c1 = c01 + fy * (c11 - c01);
+  return c0 + fz * (c1 - c0);
+}
+
+void Volume::physical_bounds(Vec3& lo, Vec3& hi) const {
+  lo = Vec3::Constant(std::numeric_limits<double>::infinity());
+  hi = -lo;
+  for (int corner = 0; corner < 8; ++corner) {
+    const Vec3 idx((corner & 1) ? dims_[0] - 1 : 0, (corner & 2) ? dims_[1] - 1 : 0,
+                   (corner & 4) ? dims_[2] - 1 : 0);
+    const Vec3 p = to_physical(idx);
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+}
+
+}  // namespace gdm

@@ -1,0 +1,389 @@
+// Tests of gdm/mesh_checks.h on meshes generated here.
+#include "gdm/mesh_checks.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "gdm/predicates.h"
+
+namespace {
+
+using gdm::Mesh;
+using gdm::Vec3;
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Adds triangle (i, j, k) oriented so that its normal points away from
+// `inside` (a point on the inner side of the face).
+void add_outward_face(Mesh& mesh, const std::vector<Mesh::VertexHandle>& v, int i,
+                      int j, int k, const Vec3& inside) {
+  const Vec3 a = gdm::to_eigen(mesh.point(v[i])), b = gdm::to_eigen(mesh.point(v[j])),
+             c = gdm::to_eigen(mesh.point(v[k]));
+  const Vec3 normal = (b - a).cross(c - a);
+  const Vec3 centroid = (a + b + c) / 3.0;
+  const auto f = normal.dot(centroid - inside) >= 0
+                     ? mesh.add_face(v[i], v[j], v[k])
+                     : mesh.add_face(v[i], v[k], v[j]);
+  ASSERT_TRUE(f.is_valid()) << "face " << i << " " << j << " " << k;
+}
+
+// Axis-aligned box as 8 vertices and 12 outward triangles; `skip_face` (0..5)
+// leaves out the two triangles of one side.
+void add_box(Mesh& mesh, const Vec3& lo, const Vec3& hi, int skip_face = -1) {
+  std::vector<Mesh::VertexHandle> v;
+  for (int i = 0; i < 8; ++i)
+    v.push_back(mesh.add_vertex(Mesh::Point(i & 1 ? hi.x() : lo.x(),
+                                            i & 2 ? hi.y() : lo.y(),
+                                            i & 4 ? hi.z() : lo.z())));
+  // Quads in cyclic order: -x, +x, -y, +y, -z, +z.
+  const int quads[6][4] = {{0, 2, 6, 4}, {1, 3, 7, 5}, {0, 1, 5, 4},
+                           {2, 3, 7, 6}, {0, 1, 3, 2}, {4, 5, 7, 6}};
+  const Vec3 centre = 0.5 * (lo + hi);
+  for (int q = 0; q < 6; ++q) {
+    if (q == skip_face) continue;
+    add_outward_face(mesh, v, quads[q][0], quads[q][1], quads[q][2], centre);
+    add_outward_face(mesh, v, quads[q][0], quads[q][2], quads[q][3], centre);
+  }
+}
+
+Mesh make_tetrahedron() {
+  Mesh mesh;
+  std::vector<Mesh::VertexHandle> v = {
+      mesh.add_vertex(Mesh::Point(0, 0, 0)), mesh.add_vertex(Mesh::Point(1, 0, 0)),
+      mesh.add_vertex(Mesh::Point(0, 1, 0)), mesh.add_vertex(Mesh::Point(0, 0, 1))};
+  const Vec3 inside(0.1, 0.1, 0.1);
+  add_outward_face(mesh, v, 0, 1, 2, inside);
+  add_outward_face(mesh, v, 0, 1, 3, inside);
+  add_outward_face(mesh, v, 1, 2, 3, inside);
+  add_outward_face(mesh, v, 2, 0, 3, inside);
+  return mesh;
+}
+
+// Icosahedron with edge length 2: vertices (0, +-1, +-phi) and cyclic
+// permutations; faces are the vertex triples at mutual distance 2.
+Mesh make_icosahedron() {
+  Mesh mesh;
+  const double phi = (1.0 + std::sqrt(5.0)) / 2.0;
+  std::vector<Vec3> p;
+  for (const double s1 : {-1.0, 1.0})
+    for (const double s2 : {-phi, phi}) {
+      p.emplace_back(0, s1, s2);
+      p.emplace_back(s1, s2, 0);
+      p.emplace_back(s2, 0, s1);
+    }
+  std::vector<Mesh::VertexHandle> v;
+  for (const Vec3& q : p) v.push_back(mesh.add_vertex(gdm::to_point(q)));
+  auto adjacent = [&](int i, int j) { return std::abs((p[i] - p[j]).norm() - 2.0) < 1e-9; };
+  for (int i = 0; i < 12; ++i)
+    for (int j = i + 1; j < 12; ++j)
+      for (int k = j + 1; k < 12; ++k)
+        if (adjacent(i, j) && adjacent(j, k) && adjacent(i, k))
+          add_outward_face(mesh, v, i, j, k, Vec3::Zero());
+  return mesh;
+}
+
+// Torus with major radius R, minor radius r, n x m quads split in two.
+Mesh make_torus(double R, double r, int n, int m) {
+  Mesh mesh;
+  std::vector<Mesh::VertexHandle> v;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < m; ++j) {
+      const double u = 2 * kPi * i / n, w = 2 * kPi * j / m;
+      v.push_back(mesh.add_vertex(Mesh::Point((R + r * std::cos(w)) * std::cos(u),
+                                              (R + r * std::cos(w)) * std::sin(u),
+                                              r * std::sin(w))));
+    }
+  auto id = [&](int i, int j) { return ((i + n) % n) * m + (j + m) % m; };
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < m; ++j) {
+      // A point of the tube's core circle next to this quad lies inside.
+      const double u = 2 * kPi * (i + 0.5) / n;
+      const Vec3 inside(R * std::cos(u), R * std::sin(u), 0.0);
+      add_outward_face(mesh, v, id(i, j), id(i + 1, j), id(i + 1, j + 1), inside);
+      add_outward_face(mesh, v, id(i, j), id(i + 1, j + 1), id(i, j + 1), inside);
+    }
+  return mesh;
+}
+
+// Quadratic reference count of improperly intersecting face pairs.
+std::size_t brute_force_pairs(const Mesh& mesh) {
+  std::vector<std::array<Vec3, 3>> points;
+  std::vector<std::array<int, 3>> ids;
+  for (const auto f : mesh.faces()) {
+    std::array<Vec3, 3> p;
+    std::array<int, 3> id;
+    int k = 0;
+    for (const auto v : mesh.fv_range(f)) {
+      p[k] = gdm::to_eigen(mesh.point(v));
+      id[k] = v.idx();
+      ++k;
+    }
+    points.push_back(p);
+    ids.push_back(id);
+  }
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    for (std::size_t j = i + 1; j < points.size(); ++j)
+      count += gdm::triangles_intersect_improperly(points[i], ids[i], points[j], ids[j]);
+  return count;
+}
+
+TEST(MeshChecks, tetrahedron_is_closed_manifold_genus_zero) {
+  const Mesh mesh = make_tetrahedron();
+  const gdm::MeshReport r = gdm::measure(mesh);
+  EXPECT_EQ(r.vertices, 4u);
+  EXPECT_EQ(r.faces, 4u);
+  EXPECT_EQ(r.edges, 6u);
+  EXPECT_TRUE(r.closed);
+  EXPECT_TRUE(r.two_manifold);
+  EXPECT_EQ(r.euler, 2);
+  EXPECT_EQ(r.genus, 0);
+  EXPECT_EQ(r.components, 1);
+  EXPECT_EQ(r.self_intersections, 0u);
+  EXPECT_NEAR(r.volume, 1.0 / 6.0, 1e-15);
+  EXPECT_NEAR(r.area, 1.5 + std::sqrt(3.0) / 2.0, 1e-14);
+  EXPECT_NEAR(r.min_angle_deg, 45.0, 1e-12);
+}
+
+TEST(MeshChecks, cube_far_from_origin_has_analytic_volume_and_area) {
+  Mesh mesh;
+  const Vec3 lo(1000.0, -2000.0, 500.0);
+  add_box(mesh, lo, lo + Vec3(2, 2, 2));
+  const gdm::MeshReport r = gdm::measure(mesh);
+  EXPECT_EQ(r.vertices, 8u);
+  EXPECT_EQ(r.faces, 12u);
+  EXPECT_EQ(r.edges, 18u);
+  EXPECT_TRUE(r.closed);
+  EXPECT_TRUE(r.two_manifold);
+  EXPECT_EQ(r.euler, 2);
+  EXPECT_EQ(r.genus, 0);
+  EXPECT_EQ(r.components, 1);
+  // Coplanar neighbours within a side share an edge and do not fold.
+  EXPECT_EQ(r.self_intersections, 0u);
+  EXPECT_NEAR(r.volume, 8.0, 1e-9);
+  EXPECT_NEAR(r.area, 24.0, 1e-9);
+  EXPECT_NEAR(r.min_angle_deg, 45.0, 1e-9);
+}
+
+TEST(MeshChecks, inward_oriented_cube_has_negative_volume) {
+  Mesh mesh;
+  add_box(mesh, Vec3(0, 0, 0), Vec3(1, 2, 3));
+  EXPECT_NEAR(gdm::enclosed_volume(mesh), 6.0, 1e-12);
+  Mesh flipped;
+  std::vector<Mesh::VertexHandle> v;
+  for (const auto vh : mesh.vertices()) v.push_back(flipped.add_vertex(mesh.point(vh)));
+  for (const auto f : mesh.faces()) {
+    std::vector<Mesh::VertexHandle> corners;
+    for (const auto vh : mesh.fv_range(f)) corners.push_back(v[vh.idx()]);
+    flipped.add_face(corners[0], corners[2], corners[1]);
+  }
+  EXPECT_NEAR(gdm::enclosed_volume(flipped), -6.0, 1e-12);
+}
+
+TEST(MeshChecks, icosahedron_matches_analytic_values) {
+  const Mesh mesh = make_icosahedron();
+  const gdm::MeshReport r = gdm::measure(mesh);
+  EXPECT_EQ(r.vertices, 12u);
+  EXPECT_EQ(r.faces, 20u);
+  EXPECT_EQ(r.edges, 30u);
+  EXPECT_TRUE(r.closed);
+  EXPECT_TRUE(r.two_manifold);
+  EXPECT_EQ(r.genus, 0);
+  EXPECT_EQ(r.components, 1);
+  EXPECT_EQ(r.self_intersections, 0u);
+  const double a = 2.0;
+  EXPECT_NEAR(r.volume, 5.0 / 12.0 * (3.0 + std::sqrt(5.0)) * a * a * a, 1e-12);
+  EXPECT_NEAR(r.area, 5.0 * std::sqrt(3.0) * a * a, 1e-12);
+  EXPECT_NEAR(r.min_angle_deg, 60.0, 1e-9);
+}
+
+TEST(MeshChecks, torus_has_genus_one) {
+  const double R = 3.0, r = 1.0;
+  const Mesh mesh = make_torus(R, r, 32, 16);
+  const gdm::MeshReport rep = gdm::measure(mesh);
+  EXPECT_EQ(rep.vertices, 512u);
+  EXPECT_EQ(rep.faces, 1024u);
+  EXPECT_TRUE(rep.closed);
+  EXPECT_TRUE(rep.two_manifold);
+  EXPECT_EQ(rep.euler, 0);
+  EXPECT_EQ(rep.genus, 1);
+  EXPECT_EQ(rep.components, 1);
+  EXPECT_EQ(rep.self_intersections, 0u);
+  // Inscribed polyhedron: a little less than the smooth torus' 2 pi^2 R r^2.
+  const double smooth = 2.0 * kPi * kPi * R * r * r;
+  EXPECT_LT(rep.volume, smooth);
+  EXPECT_GT(rep.volume, 0.95 * smooth);
+}
+
+TEST(MeshChecks, cube_missing_a_face_is_open) {
+  Mesh mesh;
+  add_box(mesh, Vec3(0, 0, 0), Vec3(1, 1, 1), /*skip_face=*/5);
+  EXPECT_FALSE(gdm::is_closed(mesh));
+  EXPECT_FALSE(gdm::is_two_manifold(mesh));
+  EXPECT_EQ(gdm::euler_characteristic(mesh), 1);  // a disc: 8 - 17 + 10
+  EXPECT_EQ(gdm::connected_components(mesh), 1);
+  EXPECT_EQ(gdm::self_intersecting_pairs(mesh), 0u);
+}
+
+TEST(MeshChecks, empty_mesh_is_not_closed) {
+  const Mesh mesh;
+  EXPECT_FALSE(gdm::is_closed(mesh));
+  EXPECT_FALSE(gdm::is_two_manifold(mesh));
+  EXPECT_EQ(gdm::connected_components(mesh), 0);
+  EXPECT_EQ(gdm::self_intersecting_pairs(mesh), 0u);
+  EXPECT_TRUE(std::isnan(gdm::smallest_angle_degrees(mesh)));
+}
+
+TEST(MeshChecks, two_disjoint_cubes_are_two_components) {
+  Mesh mesh;
+  add_box(mesh, Vec3(0, 0, 0), Vec3(1, 1, 1));
+  add_box(mesh, Vec3(3, 0, 0), Vec3(4, 1, 1));
+  const gdm::MeshReport r = gdm::measure(mesh);
+  EXPECT_TRUE(r.closed);
+  EXPECT_TRUE(r.two_manifold);
+  EXPECT_EQ(r.components, 2);
+  EXPECT_EQ(r.euler, 4);
+  EXPECT_EQ(r.genus, 0);
+  EXPECT_EQ(r.self_intersections, 0u);
+  EXPECT_NEAR(r.volume, 2.0, 1e-12);
+}
+
+TEST(MeshChecks, sphere_and_torus_genus_sums) {
+  Mesh mesh = make_torus(3.0, 1.0, 16, 8);
+  add_box(mesh, Vec3(10, 10, 10), Vec3(11, 11, 11));
+  EXPECT_EQ(gdm::connected_components(mesh), 2);
+  EXPECT_EQ(gdm::euler_characteristic(mesh), 2);
+  EXPECT_EQ(gdm::genus(mesh), 1);
+}
+
+// Cube A = [0,1]^3 and box B = [.25,.75]^2 x [.5,1.5] poking through A's top.
+// Only A's two top triangles meet B's eight side triangles. Each side face of
+// B crosses the plane z = 1 along one side of the square [.25,.75]^2, split at
+// its midpoint between B's two triangles of that side. A's top diagonal runs
+// through two opposite corners of that square, so each square side has
+// exactly one end on the diagonal: the B triangle holding that end touches
+// both top triangles of A, the other B triangle only one. 4 sides x 3 = 12.
+TEST(MeshChecks, box_poking_through_cube_has_twelve_intersecting_pairs) {
+  Mesh mesh;
+  add_box(mesh, Vec3(0, 0, 0), Vec3(1, 1, 1));
+  add_box(mesh, Vec3(0.25, 0.25, 0.5), Vec3(0.75, 0.75, 1.5));
+  EXPECT_EQ(gdm::self_intersecting_pairs(mesh), 12u);
+  EXPECT_EQ(brute_force_pairs(mesh), 12u);
+  EXPECT_EQ(gdm::connected_components(mesh), 2);
+}
+
+TEST(MeshChecks, interpenetrating_cubes_self_intersect) {
+  Mesh mesh;
+  add_box(mesh, Vec3(0, 0, 0), Vec3(1, 1, 1));
+  add_box(mesh, Vec3(0.5, 0.3, 0.2), Vec3(1.5, 1.3, 1.2));
+  const std::size_t pairs = gdm::self_intersecting_pairs(mesh);
+  EXPECT_GT(pairs, 0u);
+  EXPECT_EQ(pairs, brute_force_pairs(mesh));
+  EXPECT_TRUE(gdm::is_two_manifold(mesh));  // topology alone cannot tell
+}
+
+TEST(MeshChecks, cubes_touching_along_a_face_count_as_intersecting) {
+  Mesh mesh;
+  add_box(mesh, Vec3(0, 0, 0), Vec3(1, 1, 1));
+  add_box(mesh, Vec3(1, 0, 0), Vec3(2, 1, 1));  // own vertices, same positions
+  const std::size_t pairs = gdm::self_intersecting_pairs(mesh);
+  EXPECT_GT(pairs, 0u);
+  EXPECT_EQ(pairs, brute_force_pairs(mesh));
+}
+
+// A tetrahedron whose apex is moved into its base: each of the three side
+// faces folds over onto the base (shared edge, coplanar, apexes on the same
+// side) while side faces sharing an edge lie on opposite sides of it: 3.
+TEST(MeshChecks, apex_flattened_into_base_gives_three_fold_overs) {
+  Mesh mesh = make_tetrahedron();
+  mesh.set_point(Mesh::VertexHandle(3), Mesh::Point(0.25, 0.25, 0.0));
+  EXPECT_EQ(gdm::self_intersecting_pairs(mesh), 3u);
+  EXPECT_NEAR(gdm::enclosed_volume(mesh), 0.0, 1e-15);
+  // Pushed through the base the tetrahedron is merely inside out.
+  mesh.set_point(Mesh::VertexHandle(3), Mesh::Point(0.25, 0.25, -0.5));
+  EXPECT_EQ(gdm::self_intersecting_pairs(mesh), 0u);
+  EXPECT_LT(gdm::enclosed_volume(mesh), 0.0);
+}
+
+TEST(MeshChecks, icosahedron_vertex_pushed_through_opposite_face) {
+  Mesh mesh = make_icosahedron();
+  const auto v = Mesh::VertexHandle(0);
+  EXPECT_EQ(gdm::self_intersecting_pairs(mesh), 0u);
+  const double before = gdm::enclosed_volume(mesh);
+  // Through the centre and out beyond the opposite side.
+  mesh.set_point(v, mesh.point(v) * -1.6);
+  const std::size_t pairs = gdm::self_intersecting_pairs(mesh);
+  EXPECT_GT(pairs, 0u);
+  EXPECT_EQ(pairs, brute_force_pairs(mesh));
+  EXPECT_LT(gdm::enclosed_volume(mesh), before);
+  EXPECT_TRUE(gdm::is_closed(mesh));
+  EXPECT_TRUE(gdm::is_two_manifold(mesh));
+}
+
+TEST(MeshChecks, back_to_back_triangles_are_a_duplicate_face) {
+  Mesh mesh;
+  const auto a = mesh.add_vertex(Mesh::Point(0, 0, 0));
+  const auto b = mesh.add_vertex(Mesh::Point(1, 0, 0));
+  const auto c = mesh.add_vertex(Mesh::Point(0, 1, 0));
+  ASSERT_TRUE(mesh.add_face(a, b, c).is_valid());
+  ASSERT_TRUE(mesh.add_face(a, c, b).is_valid());
+  EXPECT_TRUE(gdm::is_closed(mesh));
+  EXPECT_EQ(gdm::self_intersecting_pairs(mesh), 1u);
+}
+
+// Two tetrahedra sharing only one vertex: every edge has two faces but the
+// shared vertex has two separate fans.
+TEST(MeshChecks, tetrahedra_touching_at_a_vertex_are_not_manifold) {
+  Mesh mesh;
+  std::vector<Mesh::VertexHandle> v = {
+      mesh.add_vertex(Mesh::Point(0, 0, 0)),   mesh.add_vertex(Mesh::Point(1, 0, 0)),
+      mesh.add_vertex(Mesh::Point(0, 1, 0)),   mesh.add_vertex(Mesh::Point(0, 0, 1)),
+      mesh.add_vertex(Mesh::Point(-1, 0, 0)),  mesh.add_vertex(Mesh::Point(0, -1, 0)),
+      mesh.add_vertex(Mesh::Point(0, 0, -1))};
+  const Vec3 in1(0.1, 0.1, 0.1), in2(-0.1, -0.1, -0.1);
+  // Leave one face at the shared vertex 0 open in each fan until both fans
+  // exist (OpenMesh refuses a face at a vertex whose fan is already closed).
+  add_outward_face(mesh, v, 1, 2, 3, in1);
+  add_outward_face(mesh, v, 0, 1, 2, in1);
+  add_outward_face(mesh, v, 0, 2, 3, in1);
+  add_outward_face(mesh, v, 4, 5, 6, in2);
+  add_outward_face(mesh, v, 0, 4, 5, in2);
+  add_outward_face(mesh, v, 0, 5, 6, in2);
+  add_outward_face(mesh, v, 0, 3, 1, in1);
+  add_outward_face(mesh, v, 0, 6, 4, in2);
+  EXPECT_TRUE(gdm::is_closed(mesh));
+  EXPECT_FALSE(gdm::is_two_manifold(mesh));
+  EXPECT_EQ(gdm::connected_components(mesh), 2);
+  // The fans touch at the shared vertex only: no improper pair.
+  EXPECT_EQ(gdm::self_intersecting_pairs(mesh), 0u);
+}
+
+TEST(MeshChecks, isolated_vertex_is_not_manifold) {
+  Mesh mesh = make_tetrahedron();
+  EXPECT_TRUE(gdm::is_two_manifold(mesh));
+  mesh.add_vertex(Mesh::Point(5, 5, 5));
+  EXPECT_FALSE(gdm::is_two_manifold(mesh));
+  EXPECT_EQ(gdm::genus(mesh), 0);
+}
+
+TEST(MeshChecks, grid_broad_phase_matches_brute_force_on_mixed_sizes) {
+  // Many small faces plus a few huge ones (kept out of the grid).
+  Mesh mesh = make_torus(3.0, 1.0, 48, 24);
+  add_box(mesh, Vec3(-100, -100, -0.2), Vec3(100, 100, 0.2));  // slices the torus
+  const std::size_t pairs = gdm::self_intersecting_pairs(mesh);
+  EXPECT_GT(pairs, 0u);
+  EXPECT_EQ(pairs, brute_force_pairs(mesh));
+}
+
+TEST(MeshChecks, report_line_names_every_field) {
+  const std::string line = gdm::to_string(gdm::measure(make_tetrahedron()));
+  for (const char* key : {"V=4", "F=4", "E=6", "closed=yes", "two_manifold=yes", "chi=2",
+                          "genus=0", "components=1", "self_intersections=0", "volume=",
+                          "area=", "min_angle_deg=45"})
+    EXPECT_NE(line.find(key), std::string::npos) << key << " in " << line;
+  EXPECT_EQ(line.find('\n'), std::string::npos);
+}
+
+}  // namespace
