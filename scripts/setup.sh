@@ -62,3 +62,23 @@ if [ ! -f "$meshlab_src/src/common/interfaces.h" ]; then
   cp -r "$work/unpacked/vcglib" "$meshlab_src/vcglib"
   rm -rf "$work"
 fi
+
+# --- ITK external-module CMake helpers (itk-module) -------------------------
+# ITKModuleExternal.cmake, ITKModuleMacros.cmake, CreateTestDriver and friends
+# are not in Debian's binary ITK package: take ITK's CMake/ folder from Debian's
+# insighttoolkit5 source package (needs the deb-src entry set up above).
+itk_cmake="$third_party/itk-cmake"
+if [ ! -f "$itk_cmake/ITKModuleExternal.cmake" ]; then
+  echo "setup: fetching ITK's CMake helpers from Debian's insighttoolkit5 source package"
+  apt_update
+  work="$(mktemp -d)"
+  (cd "$work" && apt-get source -qq --download-only insighttoolkit5 >/dev/null 2>&1)
+  orig="$(ls "$work"/insighttoolkit5_*.orig.tar.* | head -n1)"
+  tar -xf "$orig" -C "$work" --wildcards '*/CMake/*'
+  top="$(cd "$work" && ls -d */CMake/ITKModuleExternal.cmake | head -n1)"
+  rm -rf "$itk_cmake"
+  mkdir -p "$(dirname "$itk_cmake")"
+  cp -r "$work/$(dirname "$top")" "$itk_cmake"
+  rm -rf "$work"
+fi
+# --- end of the ITK external-module block -----------------------------------

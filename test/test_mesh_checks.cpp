@@ -334,29 +334,39 @@ TEST(MeshChecks, back_to_back_triangles_are_a_duplicate_face) {
 }
 
 // Two tetrahedra sharing only one vertex: every edge has two faces but the
-// shared vertex has two separate fans.
+// shared vertex has two separate fans. OpenMesh's add_face refuses to build
+// this, so two separate tetrahedra are built and the apex of the second is
+// merged into the apex of the first by re-pointing its halfedges.
 TEST(MeshChecks, tetrahedra_touching_at_a_vertex_are_not_manifold) {
   Mesh mesh;
   std::vector<Mesh::VertexHandle> v = {
-      mesh.add_vertex(Mesh::Point(0, 0, 0)),   mesh.add_vertex(Mesh::Point(1, 0, 0)),
-      mesh.add_vertex(Mesh::Point(0, 1, 0)),   mesh.add_vertex(Mesh::Point(0, 0, 1)),
-      mesh.add_vertex(Mesh::Point(-1, 0, 0)),  mesh.add_vertex(Mesh::Point(0, -1, 0)),
-      mesh.add_vertex(Mesh::Point(0, 0, -1))};
+      mesh.add_vertex(Mesh::Point(0, 0, 0)),  mesh.add_vertex(Mesh::Point(1, 0, 0)),
+      mesh.add_vertex(Mesh::Point(0, 1, 0)),  mesh.add_vertex(Mesh::Point(0, 0, 1)),
+      mesh.add_vertex(Mesh::Point(0, 0, 0)),  mesh.add_vertex(Mesh::Point(-1, 0, 0)),
+      mesh.add_vertex(Mesh::Point(0, -1, 0)), mesh.add_vertex(Mesh::Point(0, 0, -1))};
   const Vec3 in1(0.1, 0.1, 0.1), in2(-0.1, -0.1, -0.1);
-  // Leave one face at the shared vertex 0 open in each fan until both fans
-  // exist (OpenMesh refuses a face at a vertex whose fan is already closed).
-  add_outward_face(mesh, v, 1, 2, 3, in1);
-  add_outward_face(mesh, v, 0, 1, 2, in1);
-  add_outward_face(mesh, v, 0, 2, 3, in1);
-  add_outward_face(mesh, v, 4, 5, 6, in2);
-  add_outward_face(mesh, v, 0, 4, 5, in2);
-  add_outward_face(mesh, v, 0, 5, 6, in2);
-  add_outward_face(mesh, v, 0, 3, 1, in1);
-  add_outward_face(mesh, v, 0, 6, 4, in2);
+  for (const auto& f : {std::array<int, 3>{0, 1, 2}, {0, 2, 3}, {0, 3, 1}, {1, 2, 3}})
+    add_outward_face(mesh, v, f[0], f[1], f[2], in1);
+  for (const auto& f : {std::array<int, 3>{4, 5, 6}, {4, 6, 7}, {4, 7, 5}, {5, 6, 7}})
+    add_outward_face(mesh, v, f[0], f[1], f[2], in2);
+  ASSERT_TRUE(gdm::is_two_manifold(mesh));
+  ASSERT_EQ(gdm::connected_components(mesh), 2);
+  const std::size_t touching_apart = gdm::self_intersecting_pairs(mesh);
+  EXPECT_EQ(touching_apart, 9u);  // the 3 + 3 faces at the two coincident apexes
+  for (const auto h : mesh.halfedges())
+    if (mesh.to_vertex_handle(h) == v[4]) mesh.set_vertex_handle(h, v[0]);
+  mesh.request_vertex_status();
+  mesh.request_edge_status();
+  mesh.request_halfedge_status();
+  mesh.request_face_status();
+  mesh.status(v[4]).set_deleted(true);
+  mesh.garbage_collection();
+  ASSERT_EQ(mesh.n_vertices(), 7u);
   EXPECT_TRUE(gdm::is_closed(mesh));
   EXPECT_FALSE(gdm::is_two_manifold(mesh));
   EXPECT_EQ(gdm::connected_components(mesh), 2);
-  // The fans touch at the shared vertex only: no improper pair.
+  EXPECT_EQ(gdm::euler_characteristic(mesh), 3);  // 7 - 12 + 8
+  // Now the apex is one vertex: the fans touch only there, no improper pair.
   EXPECT_EQ(gdm::self_intersecting_pairs(mesh), 0u);
 }
 

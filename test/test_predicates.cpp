@@ -85,21 +85,29 @@ TEST(Orient3d, exact_on_scaled_integer_grids_near_coplanar) {
   EXPECT_GT(zeros, 1000);
 }
 
-// Points on the plane z = x with arbitrary decimal coordinates (0.1 + k*1e-17
-// and large offsets): exactly coplanar although none of the differences is
-// exact. Raising z by one ulp puts the point strictly on the side the
-// normal's z component points to.
-TEST(Orient3d, exact_on_plane_z_equals_x_with_decimal_coordinates) {
+// Points on the plane z = x + y with arbitrary decimal coordinates
+// (0.1 + k*1e-17, large offsets): y is rounded so that x + y is exact, so the
+// points are exactly coplanar although the differences are not exact.
+// Raising z by one ulp puts the point strictly on the side the normal's z
+// component points to; lowering it, on the other side.
+Vec3 on_plane_z_equals_x_plus_y(double x, double fraction) {
+  const double z = x + fraction * x;  // fraction in [0, 1]: z in [x, 2x]
+  const double y = z - x;             // exact (Sterbenz), so x + y == z
+  return Vec3(x, y, z);
+}
+
+TEST(Orient3d, exact_on_tilted_plane_with_decimal_coordinates) {
   const double offsets[] = {0.0, 1.0, 1e3, 1e6};
   int naive_wrong = 0;
   for (const double off : offsets) {
-    auto on_plane = [&](double x, double y) { return Vec3(off + x, y, off + x); };
-    const Vec3 a = on_plane(0.1, 0.3), b = on_plane(5.7, 0.2), c = on_plane(0.3, 4.1);
+    const Vec3 a = on_plane_z_equals_x_plus_y(off + 0.1, 0.3);
+    const Vec3 b = on_plane_z_equals_x_plus_y(off + 5.7, 0.2);
+    const Vec3 c = on_plane_z_equals_x_plus_y(off + 0.3, 0.9);
     const int nz = sign_of(gdm::orient2d(Vec2(a.x(), a.y()), Vec2(b.x(), b.y()),
                                          Vec2(c.x(), c.y())));
     ASSERT_NE(nz, 0);
     for (int k = -50; k <= 50; ++k) {
-      const Vec3 d = on_plane(0.1 + k * 1e-17, 0.7 + k * 3e-17);
+      const Vec3 d = on_plane_z_equals_x_plus_y(off + 0.7 + k * 1e-17, 0.5 + k * 1e-3);
       EXPECT_EQ(gdm::orient3d(a, b, c, d), 0.0) << off << " " << k;
       Vec3 up = d, down = d;
       up.z() = std::nextafter(d.z(), 1e300);
@@ -111,9 +119,11 @@ TEST(Orient3d, exact_on_plane_z_equals_x_with_decimal_coordinates) {
       EXPECT_EQ(sign_of(gdm::orient3d(up, c, b, a)), nz);
       if (sign_of(naive_orient3d(a, b, c, d)) != 0) ++naive_wrong;
       if (sign_of(naive_orient3d(a, b, c, up)) != nz) ++naive_wrong;
+      if (sign_of(naive_orient3d(a, b, c, down)) != -nz) ++naive_wrong;
     }
   }
-  EXPECT_GT(naive_wrong, 0);
+  // The inputs are hard: plain double evaluation gets many signs wrong.
+  EXPECT_GT(naive_wrong, 10);
 }
 
 // Sign must be invariant under even permutations and flip under odd ones.
@@ -149,14 +159,16 @@ TEST(Orient2d, sign_convention_matches_documentation) {
 
 TEST(Orient2d, exact_on_integer_grids_near_collinear) {
   std::mt19937_64 rng(99);
-  std::uniform_int_distribution<int64_t> coord(-(1LL << 30), 1LL << 30);
-  std::uniform_int_distribution<int64_t> small(-4, 4);
+  // |coordinates| < 2^52 (exact doubles), products < 2^104 (fit 128 bits).
+  std::uniform_int_distribution<int64_t> coord(-(1LL << 48), 1LL << 48);
+  std::uniform_real_distribution<double> u(-3.0, 3.0);
   int naive_wrong = 0;
   for (int trial = 0; trial < 20000; ++trial) {
     const int64_t ax = coord(rng), ay = coord(rng), bx = coord(rng), by = coord(rng);
-    const int64_t i = small(rng);
-    const int64_t cx = ax + i * (bx - ax) + (trial % 3 - 1);
-    const int64_t cy = ay + i * (by - ay);
+    // c near line ab: a + t (b - a) rounded to the integer grid.
+    const double t = u(rng);
+    const int64_t cx = ax + std::llround(t * static_cast<double>(bx - ax)) + (trial % 3 == 0);
+    const int64_t cy = ay + std::llround(t * static_cast<double>(by - ay));
     const __int128 exact = static_cast<__int128>(bx - ax) * (cy - ay) -
                            static_cast<__int128>(by - ay) * (cx - ax);
     const double s = std::ldexp(1.0, -7);

@@ -28,6 +28,11 @@ int main(int argc, char** argv) {
   } else if (shape == "tube") {
     sdf = phantoms::bent_tube(grid.center(), 18.0, 6.0, 1.5 * M_PI);
     seed_at = grid.center() + Vec3(18.0, 0.5, 0.0);
+  } else if (shape == "bottle") {
+    const Vec3 c = grid.center();
+    const auto wall = phantoms::difference(phantoms::difference(phantoms::sphere(c, 20.0), phantoms::sphere(c, 16.0)),
+                                           phantoms::capsule(c + Vec3(14, 0, 0), c + Vec3(22, 0, 0), 2.0));
+    sdf = [wall](const Vec3& p) { return -wall(p); };
   } else {
     const Vec3 c = grid.center();
     sdf = phantoms::unite({phantoms::capsule(c + Vec3(0, 0, 18), c, 6.0),
@@ -54,6 +59,8 @@ int main(int argc, char** argv) {
     else if (key == "threads") options.threads = static_cast<int>(value);
     else if (key == "reach") options.reach = value;
     else if (key == "flips") options.improve_triangles = value != 0.0;
+    else if (key == "tmax") options.max_topology_ratio = value;
+    else if (key == "travel") options.refinement_travel = value;
     else if (key == "lodext") options.lod_topology_extent = value != 0.0;
     else if (key == "guard") options.prevent_self_intersection = value != 0.0;
     else std::fprintf(stderr, "unknown option %s\n", key.c_str());
@@ -69,6 +76,9 @@ int main(int argc, char** argv) {
               result.cycles, ms, result.rejected_moves, result.flips);
   std::printf("%s\n", to_string(measure(mesh)).c_str());
   const auto d = phantoms::vertex_distances(mesh, sdf, volume.voxel_size());
+  double farthest = 0.0;
+  for (auto v : mesh.vertices()) farthest = std::max(farthest, (to_eigen(mesh.point(v)) - grid.center()).norm());
+  std::printf("farthest vertex from the centre: %.2f\n", farthest);
   std::printf("distance to the true surface (voxels): mean %.3f p95 %.3f max %.3f\n", d.mean, d.p95, d.max);
   std::printf("marching cubes: %zu triangles\n", phantoms::marching_cubes_triangle_count(volume, 125.0));
   if (!out.empty()) OpenMesh::IO::write_mesh(mesh, out);

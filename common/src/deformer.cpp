@@ -42,9 +42,11 @@ double effective_intensity_scale(const DeformOptions& o, const Volume& v) {
 
 // The largest neighbour separation in a regular ring of equilateral faces of
 // the level-of-detail area A: edge sqrt(4 A / sqrt 3), ring diameter twice that.
-double lod_ring_extent(const DeformOptions& o, double voxel) {
-  return 2.0 * std::sqrt(4.0 * o.lod_face_area / std::sqrt(3.0)) * voxel;
+double lod_edge_length(const DeformOptions& o, double voxel) {
+  return std::sqrt(4.0 * o.lod_face_area / std::sqrt(3.0)) * voxel;
 }
+
+double lod_ring_extent(const DeformOptions& o, double voxel) { return 2.0 * lod_edge_length(o, voxel); }
 
 }  // namespace
 
@@ -73,6 +75,8 @@ void validate(const DeformOptions& o, const Volume& volume) {
   require(o.threads >= 0, "threads must be >= 0 (0 = all cores)");
   require(o.flip_max_dihedral >= 0.0 && o.flip_max_dihedral < 90.0, "flip_max_dihedral must be in [0, 90)");
   require(o.max_faces >= 20, "max_faces must be at least 20");
+  require(!(o.max_topology_ratio <= 0.0), "max_topology_ratio must be > 0 (infinity turns the limit off)");
+  require(!(o.refinement_travel <= 0.0), "refinement_travel must be > 0 (infinity turns the bound off)");
 
   if (volume.voxel_count() == 0) throw InvalidVolume("the volume is empty");
   if (!(volume.max_value() > volume.min_value()))
@@ -95,10 +99,12 @@ class Deformer {
         observer_(observer),
         voxel_(volume.voxel_size()),
         threads_(resolve_thread_count(options.threads)),
+        max_travel_(options.refinement_travel * lod_edge_length(options, volume.voxel_size())),
         cost_{DeformationPotential(options.a0, options.reach, voxel_),
               ImageEvent(options.a1, volume, options.threshold, options.polarity, options.mode,
                          effective_intensity_scale(options, volume)),
-              TopologyTerm(options.a2, options.lod_topology_extent ? lod_ring_extent(options, voxel_) : 0.0)} {}
+              TopologyTerm(options.a2, options.lod_topology_extent ? lod_ring_extent(options, voxel_) : 0.0,
+                           options.max_topology_ratio)} {}
 
   void check_seed() const;
   DeformResult run();
@@ -126,6 +132,7 @@ class Deformer {
   CostFunction cost_;
   std::unique_ptr<IntersectionGuard> guard_;
   std::size_t rejected_earlier_stages_ = 0;
+  double max_travel_ = 0.0;  // mm, after a global refinement
 
   // Per-vertex state, indexed by vertex handle.
   std::vector<double> step_;          // adaptive step, voxels
@@ -133,6 +140,7 @@ class Deformer {
   std::vector<char> active_;          // evaluate next cycle
   std::vector<char> settled_;         // crossed back from the blocked region this stage
   std::vector<Vec3> anchor_;          // position when last counted as moving
+  std::vector<Vec3> stage_start_;     // position when the stage began or the vertex was created
   std::vector<int> last_change_;      // cycle the vertex last moved beyond the tolerance
   std::vector<Vec3> face_normal_;     // unnormalised, per face, for the cycle
   int last_split_cycle_ = 0;
@@ -174,9 +182,11 @@ void Deformer::grow_per_vertex_state() {
   active_.resize(n, 1);
   settled_.resize(n, 0);
   anchor_.resize(n);
+  stage_start_.resize(n);
   last_change_.resize(n, 0);
   for (std::size_t i = old; i < n; ++i) {
     anchor_[i] = to_eigen(mesh_.point(Mesh::VertexHandle(static_cast<int>(i))));
+    stage_start_[i] = anchor_[i];
     last_change_[i] = report_.cycle;
   }
 }
@@ -258,6 +268,15 @@ std::vector<int> Deformer::evaluate_active(std::vector<StepResult>& steps) {
     // A vertex that came back from the blocked region does not cross into it
     // again this stage: it would only oscillate around the boundary.
     if (r.moved && settled_[v.idx()] && cost_.image.is_blocked(r.position) && !cost_.image.is_blocked(n.position)) {
+      r.moved = false;
+      r.position = n.position;
+      r.cost = cost_(n, n.position);
+      r.next_step = o_.optimizer.min_step;
+    }
+    // After a global refinement the model only refines what it found: a
+    // vertex may not travel far (a leak through a hole the finer mesh could
+    // now pass).
+    if (r.moved && report_.stage > 0 && (r.position - stage_start_[v.idx()]).norm() > max_travel_) {
       r.moved = false;
       r.position = n.position;
       r.cost = cost_(n, n.position);
@@ -398,6 +417,7 @@ DeformResult Deformer::run() {
     active_.clear();
     settled_.clear();
     anchor_.clear();
+    stage_start_.clear();
     last_change_.clear();
     start_stage(cycle);
   }

@@ -3,6 +3,8 @@
 // position, in the spirit of OpenMesh's decimater modules.
 #pragma once
 
+#include <limits>
+
 #include "gdm/mesh.h"
 #include "gdm/volume.h"
 
@@ -79,15 +81,30 @@ class ImageEvent {
 // potential and the model shrinks away from every convex part. The extent is
 // therefore never taken below `min_extent` (mm), the neighbour separation of
 // faces at the level of detail; min_extent = 0 gives eq. 3 exactly.
+//
+// Section 3.1.3 asks this term to keep vertices from leaking out of holes; a
+// cost that grows linearly cannot stop a vertex that the deformation
+// potential pulls harder. So the constraint is also made hard: a position
+// whose eq. 3 ratio exceeds `max_ratio` costs infinity unless it lowers the
+// ratio of the current position. A finger thinner than about one edge length
+// (a leak through a hole smaller than the level of detail) needs ratios near
+// 0.5 at its tip; cube corners and tubes wider than two edges stay below 0.45.
 class TopologyTerm {
  public:
-  explicit TopologyTerm(double weight, double min_extent = 0.0) : weight_(weight), min_extent_(min_extent) {}
+  explicit TopologyTerm(double weight, double min_extent = 0.0,
+                        double max_ratio = std::numeric_limits<double>::infinity())
+      : weight_(weight), min_extent_(min_extent), max_ratio_(max_ratio) {}
   double weight() const { return weight_; }
+  // Eq. 3 as written: |x - centroid| / largest neighbour separation.
+  static double ratio(const VertexNeighbourhood& n, const Vec3& x) {
+    return (x - n.ring_centroid).norm() / n.ring_extent;
+  }
   double cost(const VertexNeighbourhood& n, const Vec3& x) const;
 
  private:
   double weight_;
   double min_extent_;
+  double max_ratio_;
 };
 
 // C = a0 D + a1 I + a2 T (eq. 1), each term already weighted.

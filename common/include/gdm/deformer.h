@@ -29,6 +29,9 @@ struct DeformOptions {
   OptimizerOptions optimizer;        // step range and reductions (section 3.2)
   double lod_face_area = 10.0;       // split faces larger than this, voxel^2 (Table 2)
   bool lod_topology_extent = true;   // floor eq. 3's extent at the level of detail (see TopologyTerm)
+  double max_topology_ratio = 0.5;   // hard limit on eq. 3's ratio against leaks (see TopologyTerm); inf = off
+  double refinement_travel = 0.5;    // after a global refinement a vertex moves at most this many
+                                     // level-of-detail edge lengths from where the stage found it
   int global_refinements = 1;        // 1-to-4 resamplings, each after a convergence (section 6)
   int max_cycles = 2000;             // hard limit on deformation cycles, all stages together
   double convergence_tolerance = 0.5;  // a vertex counts as moving beyond this, voxels

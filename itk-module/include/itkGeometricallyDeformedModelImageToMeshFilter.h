@@ -1,0 +1,358 @@
+/*=========================================================================
+ *
+ *  gdm ITK module: Geometrically Deformed Models as an ITK image-to-mesh filter.
+ *
+ *=========================================================================*/
+#ifndef itkGeometricallyDeformedModelImageToMeshFilter_h
+#define itkGeometricallyDeformedModelImageToMeshFilter_h
+
+#include <cstdint>
+#include <limits>
+#include <ostream>
+#include <string>
+
+#include "itkImageToMeshFilter.h"
+#include "itkMacro.h"
+#include "itkNumericTraits.h"
+#include "itkPoint.h"
+
+#include "gdm/deformer.h"
+
+// ITK 5.4 introduced itkOverrideGetNameOfClassMacro; provide it on older ITK.
+#ifndef itkOverrideGetNameOfClassMacro
+#  define itkOverrideGetNameOfClassMacro(thisClass)                                                                    \
+    const char * GetNameOfClass() const override { return #thisClass; }                                               \
+    ITK_MACROEND_NOOP_STATEMENT
+#endif
+
+namespace itk
+{
+
+/** \class GeometricallyDeformedModelEnums
+ * \brief Enumerations of GeometricallyDeformedModelImageToMeshFilter.
+ * \ingroup GeometricallyDeformedModel
+ */
+class GeometricallyDeformedModelEnums
+{
+public:
+  /** Grow: the seed starts inside the object and expands (the paper's
+   * balloon). Shrink: the seed encloses the object and collapses onto it. */
+  enum class Mode : uint8_t
+  {
+    Grow,
+    Shrink
+  };
+
+  /** Which side of the threshold is the object. */
+  enum class Polarity : uint8_t
+  {
+    ObjectBrighter,
+    ObjectDarker
+  };
+};
+
+inline std::ostream &
+operator<<(std::ostream & os, const GeometricallyDeformedModelEnums::Mode value)
+{
+  return os << (value == GeometricallyDeformedModelEnums::Mode::Grow ? "GeometricallyDeformedModelEnums::Mode::Grow"
+                                                                      : "GeometricallyDeformedModelEnums::Mode::Shrink");
+}
+
+inline std::ostream &
+operator<<(std::ostream & os, const GeometricallyDeformedModelEnums::Polarity value)
+{
+  return os << (value == GeometricallyDeformedModelEnums::Polarity::ObjectBrighter
+                  ? "GeometricallyDeformedModelEnums::Polarity::ObjectBrighter"
+                  : "GeometricallyDeformedModelEnums::Polarity::ObjectDarker");
+}
+
+/** \class GeometricallyDeformedModelImageToMeshFilter
+ * \brief Extracts a closed triangle mesh of an object in a 3D image with a
+ * Geometrically Deformed Model (GDM).
+ *
+ * A simple closed polyhedron (the seed) is deformed, vertex by vertex, by an
+ * adaptive steepest descent on the cost C = a0 D + a1 I + a2 T: a deformation
+ * potential D that pushes every vertex along its normal, an image event I that
+ * stops it at the threshold, and a topology term T that keeps the surface
+ * locally smooth. Faces larger than the level of detail are split while the
+ * model deforms, and after convergence the model is refined 1-to-4 and
+ * deformed again. The result is a closed, 2-manifold triangle mesh of the
+ * seed's genus (0 for the built-in seed) without self-intersections.
+ *
+ * The work is done by the gdm core library (gdm::deform()); this filter
+ * converts the input image (with its spacing, origin and direction cosines)
+ * into the core's volume, runs the core and converts the result back. Output
+ * points are in the input image's physical space. Each output point carries
+ * its generation (the deformation cycle that created it) as point data.
+ *
+ * Inputs: the image (any scalar pixel type, dimension 3) and, optionally, a
+ * closed 2-manifold triangle seed mesh (SetSeedMesh(), in physical
+ * coordinates). Without a seed mesh, the seed is a geodesic sphere given by
+ * SeedCenter (physical point) and SeedRadius (mm); the subdivision level of the
+ * sphere is SeedSubdivisionLevel.
+ *
+ * Parameters (defaults in brackets; lengths in "voxels" are multiples of the
+ * smallest spacing):
+ * - Threshold [NaN, must be set]: T of eq. 2, the iso-value of the boundary.
+ * - Polarity [ObjectBrighter]: which side of the threshold is the object.
+ * - Mode [Grow]: grow from inside the object, or shrink from around it.
+ * - DeformationWeight a0 [1], ImageEventWeight a1 [1], TopologyWeight a2 [5]
+ *   (Table 2 of the paper); >= 0.
+ * - IntensityScale [0 = 1% of the image's value range]: intensity per unit of I.
+ * - Reach [1 voxel, in (0, 10]]: distance of the normal-tracking target.
+ * - NormalRings [2, in [1, 4]]: rings of faces averaged into a vertex normal.
+ * - LocalFlip [on]: flip the deformation sense of vertices that crossed the
+ *   boundary.
+ * - MinimumStep [0.25] and MaximumStep [1] voxel (in (0, 10]),
+ *   MaximumStepReductions [3, in [0, 16]], GradientStep [0.1 voxel, in (0, 1]]:
+ *   the adaptive steepest descent (section 3.2).
+ * - LevelOfDetailFaceArea [10 voxel^2, >= 0.5]: faces larger than this are split.
+ * - LevelOfDetailTopologyExtent [on]: floor the topology term's extent at the
+ *   level of detail.
+ * - NumberOfGlobalRefinements [1, in [0, 4]]: 1-to-4 resamplings after convergence.
+ * - MaximumNumberOfCycles [2000, >= 1], ConvergenceTolerance [0.5 voxel],
+ *   ConvergenceWindow [5 cycles]: when to stop.
+ * - PreventSelfIntersection [on]: veto moves that would self-intersect.
+ * - ImproveTriangles [on] and FlipMaximumDihedralAngle [20 degrees, in [0, 90)]:
+ *   Delaunay edge flips on nearly flat regions.
+ * - MaximumNumberOfFaces [2000000, >= 20]: stop when the model grows past this.
+ * - NumberOfWorkUnits (from ProcessObject): worker threads; the result does not
+ *   depend on it.
+ *
+ * After Update(), GetStopReason(), GetNumberOfCycles(),
+ * GetNumberOfGlobalRefinementsPerformed(), GetNumberOfRejectedMoves(),
+ * GetNumberOfFlips() and GetNumberOfBorderVertices() describe the run.
+ *
+ * Progress is reported once per deformation cycle and ends at 1. Setting
+ * AbortGenerateData (e.g. from a progress observer) stops the run at the end
+ * of the current cycle and throws itk::ProcessAborted. Invalid input (no
+ * threshold, a threshold outside the value range, a seed outside the image or
+ * outside the object, ...) throws itk::ExceptionObject with the core's
+ * message.
+ *
+ * Reference: J. V. Miller, D. E. Breen, W. E. Lorensen, R. M. O'Bara and
+ * M. J. Wozny, "Geometrically Deformed Models: A Method for Extracting Closed
+ * Geometric Models from Volume Data", Computer Graphics (SIGGRAPH '91
+ * Proceedings) 25(4):217-226, 1991.
+ *
+ * \ingroup GeometricallyDeformedModel
+ */
+template <typename TInputImage, typename TOutputMesh>
+class ITK_TEMPLATE_EXPORT GeometricallyDeformedModelImageToMeshFilter
+  : public ImageToMeshFilter<TInputImage, TOutputMesh>
+{
+public:
+  ITK_DISALLOW_COPY_AND_MOVE(GeometricallyDeformedModelImageToMeshFilter);
+
+  /** Standard class type aliases. */
+  using Self = GeometricallyDeformedModelImageToMeshFilter;
+  using Superclass = ImageToMeshFilter<TInputImage, TOutputMesh>;
+  using Pointer = SmartPointer<Self>;
+  using ConstPointer = SmartPointer<const Self>;
+
+  /** Method for creation through the object factory. */
+  itkNewMacro(Self);
+
+  /** Run-time type information. */
+  itkOverrideGetNameOfClassMacro(GeometricallyDeformedModelImageToMeshFilter);
+
+  using InputImageType = TInputImage;
+  using InputImagePixelType = typename InputImageType::PixelType;
+  static constexpr unsigned int InputImageDimension = InputImageType::ImageDimension;
+
+  using OutputMeshType = TOutputMesh;
+  using OutputMeshPointer = typename OutputMeshType::Pointer;
+  static constexpr unsigned int PointDimension = OutputMeshType::PointDimension;
+  static_assert(PointDimension == 3, "GeometricallyDeformedModelImageToMeshFilter needs a 3D output mesh");
+
+  /** The optional seed mesh has the type of the output mesh. */
+  using SeedMeshType = TOutputMesh;
+
+  /** A physical point (the seed centre). */
+  using PointType = Point<double, 3>;
+
+  using ModeEnum = GeometricallyDeformedModelEnums::Mode;
+  using PolarityEnum = GeometricallyDeformedModelEnums::Polarity;
+
+  /** Optional seed mesh (closed 2-manifold triangles, physical coordinates).
+   * When set, SeedCenter and SeedRadius are ignored. */
+  itkSetInputMacro(SeedMesh, SeedMeshType);
+  itkGetInputMacro(SeedMesh, SeedMeshType);
+
+  /** Threshold T (eq. 2); must be set and lie inside the image's value range. */
+  itkSetMacro(Threshold, double);
+  itkGetConstMacro(Threshold, double);
+
+  /** Which side of the threshold is the object. */
+  itkSetEnumMacro(Polarity, PolarityEnum);
+  itkGetEnumMacro(Polarity, PolarityEnum);
+
+  /** Grow from inside the object or shrink from around it. */
+  itkSetEnumMacro(Mode, ModeEnum);
+  itkGetEnumMacro(Mode, ModeEnum);
+
+  /** Deformation gain a0 (>= 0; the core rejects 0). */
+  itkSetClampMacro(DeformationWeight, double, 0.0, NumericTraits<double>::max());
+  itkGetConstMacro(DeformationWeight, double);
+
+  /** Image event gain a1 (>= 0). */
+  itkSetClampMacro(ImageEventWeight, double, 0.0, NumericTraits<double>::max());
+  itkGetConstMacro(ImageEventWeight, double);
+
+  /** Topology gain a2 (>= 0). */
+  itkSetClampMacro(TopologyWeight, double, 0.0, NumericTraits<double>::max());
+  itkGetConstMacro(TopologyWeight, double);
+
+  /** Intensity per unit of the image event; 0 selects 1% of the value range. */
+  itkSetClampMacro(IntensityScale, double, 0.0, NumericTraits<double>::max());
+  itkGetConstMacro(IntensityScale, double);
+
+  /** Distance of the normal-tracking target, voxels, in [0.01, 10]. */
+  itkSetClampMacro(Reach, double, 0.01, 10.0);
+  itkGetConstMacro(Reach, double);
+
+  /** Rings of faces averaged into a vertex normal, in [1, 4]. */
+  itkSetClampMacro(NormalRings, unsigned int, 1, 4);
+  itkGetConstMacro(NormalRings, unsigned int);
+
+  /** Flip the deformation sense of misplaced vertices (section 5). */
+  itkSetMacro(LocalFlip, bool);
+  itkGetConstMacro(LocalFlip, bool);
+  itkBooleanMacro(LocalFlip);
+
+  /** Smallest optimizer step, voxels, in [0.01, 10]; must not exceed MaximumStep. */
+  itkSetClampMacro(MinimumStep, double, 0.01, 10.0);
+  itkGetConstMacro(MinimumStep, double);
+
+  /** Largest optimizer step, voxels, in [0.01, 10]. */
+  itkSetClampMacro(MaximumStep, double, 0.01, 10.0);
+  itkGetConstMacro(MaximumStep, double);
+
+  /** Step halvings tried before a vertex stays put, in [0, 16]. */
+  itkSetClampMacro(MaximumStepReductions, unsigned int, 0, 16);
+  itkGetConstMacro(MaximumStepReductions, unsigned int);
+
+  /** Half width of the central-difference gradient, voxels, in [0.01, 1]. */
+  itkSetClampMacro(GradientStep, double, 0.01, 1.0);
+  itkGetConstMacro(GradientStep, double);
+
+  /** Faces larger than this area (voxel^2, >= 0.5) are split. */
+  itkSetClampMacro(LevelOfDetailFaceArea, double, 0.5, NumericTraits<double>::max());
+  itkGetConstMacro(LevelOfDetailFaceArea, double);
+
+  /** Floor the topology term's extent at the level of detail. */
+  itkSetMacro(LevelOfDetailTopologyExtent, bool);
+  itkGetConstMacro(LevelOfDetailTopologyExtent, bool);
+  itkBooleanMacro(LevelOfDetailTopologyExtent);
+
+  /** Global 1-to-4 resamplings, each after a convergence, in [0, 4]. */
+  itkSetClampMacro(NumberOfGlobalRefinements, unsigned int, 0, 4);
+  itkGetConstMacro(NumberOfGlobalRefinements, unsigned int);
+
+  /** Hard limit on deformation cycles, all stages together (>= 1). */
+  itkSetClampMacro(MaximumNumberOfCycles, unsigned int, 1, static_cast<unsigned int>(std::numeric_limits<int>::max()));
+  itkGetConstMacro(MaximumNumberOfCycles, unsigned int);
+
+  /** A vertex counts as moving beyond this distance, voxels (>= 0.001). */
+  itkSetClampMacro(ConvergenceTolerance, double, 0.001, NumericTraits<double>::max());
+  itkGetConstMacro(ConvergenceTolerance, double);
+
+  /** Converged when nothing moved for this many cycles (>= 1). */
+  itkSetClampMacro(ConvergenceWindow, unsigned int, 1, static_cast<unsigned int>(std::numeric_limits<int>::max()));
+  itkGetConstMacro(ConvergenceWindow, unsigned int);
+
+  /** Veto moves and flips that would make the surface self-intersect. */
+  itkSetMacro(PreventSelfIntersection, bool);
+  itkGetConstMacro(PreventSelfIntersection, bool);
+  itkBooleanMacro(PreventSelfIntersection);
+
+  /** Delaunay edge flips on nearly flat regions. */
+  itkSetMacro(ImproveTriangles, bool);
+  itkGetConstMacro(ImproveTriangles, bool);
+  itkBooleanMacro(ImproveTriangles);
+
+  /** Only flip where the faces are this close to flat, degrees, in [0, 89.9]. */
+  itkSetClampMacro(FlipMaximumDihedralAngle, double, 0.0, 89.9);
+  itkGetConstMacro(FlipMaximumDihedralAngle, double);
+
+  /** Stop when the model grows past this many faces (>= 20). */
+  itkSetClampMacro(MaximumNumberOfFaces, SizeValueType, 20, NumericTraits<SizeValueType>::max());
+  itkGetConstMacro(MaximumNumberOfFaces, SizeValueType);
+
+  /** Centre of the built-in seed sphere, physical coordinates. */
+  itkSetMacro(SeedCenter, PointType);
+  itkGetConstReferenceMacro(SeedCenter, PointType);
+
+  /** Radius of the built-in seed sphere, physical units (> 0 to be used). */
+  itkSetClampMacro(SeedRadius, double, 0.0, NumericTraits<double>::max());
+  itkGetConstMacro(SeedRadius, double);
+
+  /** Subdivisions of the icosahedron seed (20 * 4^level faces), in [0, 8]. */
+  itkSetClampMacro(SeedSubdivisionLevel, unsigned int, 0, 8);
+  itkGetConstMacro(SeedSubdivisionLevel, unsigned int);
+
+  /** Results of the last run. */
+  itkGetStringMacro(StopReason);
+  itkGetConstMacro(NumberOfCycles, SizeValueType);
+  itkGetConstMacro(NumberOfGlobalRefinementsPerformed, SizeValueType);
+  itkGetConstMacro(NumberOfRejectedMoves, SizeValueType);
+  itkGetConstMacro(NumberOfFlips, SizeValueType);
+  itkGetConstMacro(NumberOfBorderVertices, SizeValueType);
+
+  /** The core options assembled from the parameters above. */
+  gdm::DeformOptions
+  GetDeformOptions() const;
+
+protected:
+  GeometricallyDeformedModelImageToMeshFilter();
+  ~GeometricallyDeformedModelImageToMeshFilter() override = default;
+
+  void
+  PrintSelf(std::ostream & os, Indent indent) const override;
+
+  void
+  GenerateData() override;
+
+private:
+  double        m_Threshold;
+  PolarityEnum  m_Polarity{ PolarityEnum::ObjectBrighter };
+  ModeEnum      m_Mode{ ModeEnum::Grow };
+  double        m_DeformationWeight;
+  double        m_ImageEventWeight;
+  double        m_TopologyWeight;
+  double        m_IntensityScale;
+  double        m_Reach;
+  unsigned int  m_NormalRings;
+  bool          m_LocalFlip;
+  double        m_MinimumStep;
+  double        m_MaximumStep;
+  unsigned int  m_MaximumStepReductions;
+  double        m_GradientStep;
+  double        m_LevelOfDetailFaceArea;
+  bool          m_LevelOfDetailTopologyExtent;
+  unsigned int  m_NumberOfGlobalRefinements;
+  unsigned int  m_MaximumNumberOfCycles;
+  double        m_ConvergenceTolerance;
+  unsigned int  m_ConvergenceWindow;
+  bool          m_PreventSelfIntersection;
+  bool          m_ImproveTriangles;
+  double        m_FlipMaximumDihedralAngle;
+  SizeValueType m_MaximumNumberOfFaces;
+  PointType     m_SeedCenter;
+  double        m_SeedRadius{ 0.0 };
+  unsigned int  m_SeedSubdivisionLevel{ 1 };
+
+  std::string   m_StopReason;
+  SizeValueType m_NumberOfCycles{ 0 };
+  SizeValueType m_NumberOfGlobalRefinementsPerformed{ 0 };
+  SizeValueType m_NumberOfRejectedMoves{ 0 };
+  SizeValueType m_NumberOfFlips{ 0 };
+  SizeValueType m_NumberOfBorderVertices{ 0 };
+};
+} // end namespace itk
+
+#ifndef ITK_MANUAL_INSTANTIATION
+#  include "itkGeometricallyDeformedModelImageToMeshFilter.hxx"
+#endif
+
+#endif // itkGeometricallyDeformedModelImageToMeshFilter_h

@@ -1,0 +1,250 @@
+/*=========================================================================
+ *
+ *  gdm ITK module: Geometrically Deformed Models as an ITK image-to-mesh filter.
+ *
+ *=========================================================================*/
+#ifndef itkGeometricallyDeformedModelImageToMeshFilter_hxx
+#define itkGeometricallyDeformedModelImageToMeshFilter_hxx
+
+#include "itkGeometricallyDeformedModelImageToMeshFilter.h"
+
+#include <algorithm>
+#include <cmath>
+#include <exception>
+
+#include "itkGDMVolumeConversion.h"
+
+#include "gdm/errors.h"
+#include "gdm/seed.h"
+
+namespace itk
+{
+
+template <typename TInputImage, typename TOutputMesh>
+GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::GeometricallyDeformedModelImageToMeshFilter()
+{
+  // The defaults are the core's.
+  const gdm::DeformOptions defaults;
+  m_Threshold = defaults.threshold;
+  m_Polarity = defaults.polarity == gdm::Polarity::object_darker ? PolarityEnum::ObjectDarker
+                                                                  : PolarityEnum::ObjectBrighter;
+  m_Mode = defaults.mode == gdm::Mode::shrink ? ModeEnum::Shrink : ModeEnum::Grow;
+  m_DeformationWeight = defaults.a0;
+  m_ImageEventWeight = defaults.a1;
+  m_TopologyWeight = defaults.a2;
+  m_IntensityScale = defaults.intensity_scale;
+  m_Reach = defaults.reach;
+  m_NormalRings = static_cast<unsigned int>(defaults.normal_rings);
+  m_LocalFlip = defaults.local_flip;
+  m_MinimumStep = defaults.optimizer.min_step;
+  m_MaximumStep = defaults.optimizer.max_step;
+  m_MaximumStepReductions = static_cast<unsigned int>(defaults.optimizer.max_step_reductions);
+  m_GradientStep = defaults.optimizer.gradient_step;
+  m_LevelOfDetailFaceArea = defaults.lod_face_area;
+  m_LevelOfDetailTopologyExtent = defaults.lod_topology_extent;
+  m_NumberOfGlobalRefinements = static_cast<unsigned int>(defaults.global_refinements);
+  m_MaximumNumberOfCycles = static_cast<unsigned int>(defaults.max_cycles);
+  m_ConvergenceTolerance = defaults.convergence_tolerance;
+  m_ConvergenceWindow = static_cast<unsigned int>(defaults.convergence_window);
+  m_PreventSelfIntersection = defaults.prevent_self_intersection;
+  m_ImproveTriangles = defaults.improve_triangles;
+  m_FlipMaximumDihedralAngle = defaults.flip_max_dihedral;
+  m_MaximumNumberOfFaces = static_cast<SizeValueType>(defaults.max_faces);
+  m_SeedCenter.Fill(0.0);
+}
+
+template <typename TInputImage, typename TOutputMesh>
+gdm::DeformOptions
+GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::GetDeformOptions() const
+{
+  gdm::DeformOptions o;
+  o.mode = m_Mode == ModeEnum::Shrink ? gdm::Mode::shrink : gdm::Mode::grow;
+  o.polarity = m_Polarity == PolarityEnum::ObjectDarker ? gdm::Polarity::object_darker
+                                                        : gdm::Polarity::object_brighter;
+  o.threshold = m_Threshold;
+  o.a0 = m_DeformationWeight;
+  o.a1 = m_ImageEventWeight;
+  o.a2 = m_TopologyWeight;
+  o.intensity_scale = m_IntensityScale;
+  o.reach = m_Reach;
+  o.normal_rings = static_cast<int>(m_NormalRings);
+  o.local_flip = m_LocalFlip;
+  o.optimizer.min_step = m_MinimumStep;
+  o.optimizer.max_step = m_MaximumStep;
+  o.optimizer.max_step_reductions = static_cast<int>(m_MaximumStepReductions);
+  o.optimizer.gradient_step = m_GradientStep;
+  o.lod_face_area = m_LevelOfDetailFaceArea;
+  o.lod_topology_extent = m_LevelOfDetailTopologyExtent;
+  o.global_refinements = static_cast<int>(m_NumberOfGlobalRefinements);
+  o.max_cycles = static_cast<int>(m_MaximumNumberOfCycles);
+  o.convergence_tolerance = m_ConvergenceTolerance;
+  o.convergence_window = static_cast<int>(m_ConvergenceWindow);
+  o.prevent_self_intersection = m_PreventSelfIntersection;
+  o.improve_triangles = m_ImproveTriangles;
+  o.flip_max_dihedral = m_FlipMaximumDihedralAngle;
+  o.threads = static_cast<int>(this->GetNumberOfWorkUnits());
+  o.max_faces = static_cast<std::size_t>(m_MaximumNumberOfFaces);
+  return o;
+}
+
+template <typename TInputImage, typename TOutputMesh>
+void
+GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::GenerateData()
+{
+  m_StopReason.clear();
+  m_NumberOfCycles = 0;
+  m_NumberOfGlobalRefinementsPerformed = 0;
+  m_NumberOfRejectedMoves = 0;
+  m_NumberOfFlips = 0;
+  m_NumberOfBorderVertices = 0;
+
+  if constexpr (InputImageDimension != 3)
+  {
+    itkExceptionMacro(<< "the input image must be 3D, got a " << InputImageDimension << "D image");
+  }
+  else
+  {
+    const InputImageType * image = this->GetInput();
+    OutputMeshType *       output = this->GetOutput();
+    if (image == nullptr)
+    {
+      itkExceptionMacro(<< "no input image");
+    }
+
+    const gdm::DeformOptions options = this->GetDeformOptions();
+    gdm::Volume              volume;
+    gdm::Mesh                mesh;
+    gdm::DeformResult        result;
+
+    // Progress: an estimate per stage (each global refinement is a stage),
+    // approaching the end of the stage exponentially with its cycles; never
+    // less than the fraction of the cycle budget used; monotone; below 1 until
+    // the output is ready.
+    const double       stages = static_cast<double>(options.global_refinements + 1);
+    double             progress = 0.0;
+    int                stage = -1;
+    int                stageStart = 1;
+    std::exception_ptr observerError;
+    const gdm::DeformObserver observer = [&](const gdm::CycleReport & report) -> bool {
+      try
+      {
+        if (report.stage != stage)
+        {
+          stage = report.stage;
+          stageStart = report.cycle;
+        }
+        const double inStage = 1.0 - std::exp(-static_cast<double>(report.cycle - stageStart + 1) / 50.0);
+        double       estimate = (static_cast<double>(report.stage) + inStage) / stages;
+        estimate = std::max(estimate, static_cast<double>(report.cycle) / static_cast<double>(options.max_cycles));
+        progress = std::max(progress, std::min(estimate, 0.99));
+        this->UpdateProgress(static_cast<float>(progress));
+        return !this->GetAbortGenerateData();
+      }
+      catch (...)
+      {
+        observerError = std::current_exception();
+        return false;
+      }
+    };
+
+    try
+    {
+      volume = GDMConversion::VolumeFromImage(image);
+      if (const SeedMeshType * seedMesh = this->GetSeedMesh())
+      {
+        mesh = GDMConversion::MeshFromITKMesh(seedMesh);
+      }
+      else
+      {
+        if (!(m_SeedRadius > 0.0))
+        {
+          itkExceptionMacro(<< "no seed: set SeedCenter and a positive SeedRadius, or a seed mesh with SetSeedMesh()");
+        }
+        const gdm::Vec3 center(m_SeedCenter[0], m_SeedCenter[1], m_SeedCenter[2]);
+        mesh = gdm::make_geodesic_sphere(center, m_SeedRadius, static_cast<int>(m_SeedSubdivisionLevel));
+      }
+      gdm::validate(options, volume);
+      result = gdm::deform(mesh, volume, options, observer);
+    }
+    catch (const gdm::Error & error)
+    {
+      itkExceptionMacro(<< error.what());
+    }
+    if (observerError)
+    {
+      std::rethrow_exception(observerError);
+    }
+
+    m_StopReason = gdm::to_string(result.reason);
+    m_NumberOfCycles = static_cast<SizeValueType>(result.cycles);
+    m_NumberOfGlobalRefinementsPerformed = static_cast<SizeValueType>(result.global_refinements);
+    m_NumberOfRejectedMoves = static_cast<SizeValueType>(result.rejected_moves);
+    m_NumberOfFlips = static_cast<SizeValueType>(result.flips);
+    m_NumberOfBorderVertices = static_cast<SizeValueType>(result.border_vertices);
+
+    if (result.reason == gdm::StopReason::cancelled || this->GetAbortGenerateData())
+    {
+      ProcessAborted aborted(__FILE__, __LINE__);
+      aborted.SetLocation(ITK_LOCATION);
+      aborted.SetDescription("GeometricallyDeformedModelImageToMeshFilter: the deformation was aborted after " +
+                             std::to_string(result.cycles) + " cycles");
+      throw aborted;
+    }
+
+    try
+    {
+      GDMConversion::MeshToITKMesh(mesh, output);
+    }
+    catch (const gdm::Error & error)
+    {
+      itkExceptionMacro(<< error.what());
+    }
+    this->UpdateProgress(1.0f);
+  }
+}
+
+template <typename TInputImage, typename TOutputMesh>
+void
+GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::PrintSelf(std::ostream & os,
+                                                                                  Indent         indent) const
+{
+  Superclass::PrintSelf(os, indent);
+  os << indent << "SeedMesh: " << (this->GetSeedMesh() ? "set" : "(none)") << std::endl;
+  os << indent << "Threshold: " << m_Threshold << std::endl;
+  os << indent << "Polarity: " << m_Polarity << std::endl;
+  os << indent << "Mode: " << m_Mode << std::endl;
+  os << indent << "DeformationWeight: " << m_DeformationWeight << std::endl;
+  os << indent << "ImageEventWeight: " << m_ImageEventWeight << std::endl;
+  os << indent << "TopologyWeight: " << m_TopologyWeight << std::endl;
+  os << indent << "IntensityScale: " << m_IntensityScale << std::endl;
+  os << indent << "Reach: " << m_Reach << std::endl;
+  os << indent << "NormalRings: " << m_NormalRings << std::endl;
+  os << indent << "LocalFlip: " << (m_LocalFlip ? "On" : "Off") << std::endl;
+  os << indent << "MinimumStep: " << m_MinimumStep << std::endl;
+  os << indent << "MaximumStep: " << m_MaximumStep << std::endl;
+  os << indent << "MaximumStepReductions: " << m_MaximumStepReductions << std::endl;
+  os << indent << "GradientStep: " << m_GradientStep << std::endl;
+  os << indent << "LevelOfDetailFaceArea: " << m_LevelOfDetailFaceArea << std::endl;
+  os << indent << "LevelOfDetailTopologyExtent: " << (m_LevelOfDetailTopologyExtent ? "On" : "Off") << std::endl;
+  os << indent << "NumberOfGlobalRefinements: " << m_NumberOfGlobalRefinements << std::endl;
+  os << indent << "MaximumNumberOfCycles: " << m_MaximumNumberOfCycles << std::endl;
+  os << indent << "ConvergenceTolerance: " << m_ConvergenceTolerance << std::endl;
+  os << indent << "ConvergenceWindow: " << m_ConvergenceWindow << std::endl;
+  os << indent << "PreventSelfIntersection: " << (m_PreventSelfIntersection ? "On" : "Off") << std::endl;
+  os << indent << "ImproveTriangles: " << (m_ImproveTriangles ? "On" : "Off") << std::endl;
+  os << indent << "FlipMaximumDihedralAngle: " << m_FlipMaximumDihedralAngle << std::endl;
+  os << indent << "MaximumNumberOfFaces: " << m_MaximumNumberOfFaces << std::endl;
+  os << indent << "SeedCenter: " << m_SeedCenter << std::endl;
+  os << indent << "SeedRadius: " << m_SeedRadius << std::endl;
+  os << indent << "SeedSubdivisionLevel: " << m_SeedSubdivisionLevel << std::endl;
+  os << indent << "StopReason: " << (m_StopReason.empty() ? "(not run)" : m_StopReason) << std::endl;
+  os << indent << "NumberOfCycles: " << m_NumberOfCycles << std::endl;
+  os << indent << "NumberOfGlobalRefinementsPerformed: " << m_NumberOfGlobalRefinementsPerformed << std::endl;
+  os << indent << "NumberOfRejectedMoves: " << m_NumberOfRejectedMoves << std::endl;
+  os << indent << "NumberOfFlips: " << m_NumberOfFlips << std::endl;
+  os << indent << "NumberOfBorderVertices: " << m_NumberOfBorderVertices << std::endl;
+}
+
+} // end namespace itk
+
+#endif // itkGeometricallyDeformedModelImageToMeshFilter_hxx

@@ -1,0 +1,77 @@
+// The plugin's helper: CMeshO <-> gdm::Mesh conversion and the three filters'
+// work, calling the gdm core. No Qt dialogs, no RichParameters: plain options
+// in, meshes and log lines out. Errors are thrown (gdm::Error or
+// std::runtime_error) with a message meant for the user.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <common/ml_mesh_type.h>
+
+#include "gdm/deformer.h"
+#include "gdm/mesh.h"
+#include "shrink_wrap_field.h"
+
+namespace gdm_meshlab {
+
+// percent in [0, 100] and a short text; returns false to cancel.
+using Progress = std::function<bool(int, const char*)>;
+using LogLines = std::vector<std::string>;
+
+// The closed 2-manifold triangle mesh of a MeshLab layer (deleted elements
+// skipped, coincident vertices kept apart). Throws gdm::InvalidSeed with the
+// reason when the layer is empty, open, non-manifold or not finite. An
+// inward-oriented mesh is reversed (noted in `log`).
+gdm::Mesh to_gdm_seed(const CMeshO& m, LogLines* log);
+
+// Replaces `out` by `mesh`; the per-vertex generation goes to vertex quality.
+void to_meshlab(const gdm::Mesh& mesh, CMeshO& out);
+
+// The triangles of a layer as a soup; a layer without faces gives its vertices
+// as degenerate triangles (a point cloud can be wrapped too).
+std::vector<Triangle> triangle_soup(const CMeshO& m);
+
+// What the volume filters share.
+struct VolumeParams {
+  std::string volume_file;
+  bool auto_threshold = false;
+  double threshold = 0.0;
+  bool object_darker = false;
+  bool shrink = false;            // deform_seed_in_volume: the seed encloses the object
+  double smoothing_sigma = 0.0;  // mm, 0 = off
+  double a0 = 1.0, a1 = 1.0, a2 = 5.0;
+  double lod_face_area = 10.0;    // voxel^2
+  int global_refinements = 1;
+  int max_cycles = 2000;
+};
+
+struct SeedParams {
+  bool at_volume_centre = true;
+  gdm::Vec3 point = gdm::Vec3::Zero();  // mm
+  double radius = 3.0;                   // mm
+};
+
+// Filter 1: a model grown from an icosahedron in the volume.
+gdm::Mesh model_from_volume(const VolumeParams& v, const SeedParams& s, const Progress& progress, LogLines* log);
+
+// Filter 2: the given seed deformed in the volume: grown from inside the
+// object, or shrunk onto it when v.shrink (the seed encloses the object).
+gdm::Mesh deform_seed_in_volume(gdm::Mesh seed, const VolumeParams& v, const Progress& progress, LogLines* log);
+
+struct WrapParams {
+  double cell_size = 1.0;     // mm
+  double tolerance = 2.0;     // mm: largest distance of the input from the wrap
+  double a0 = 1.0, a1 = 1.0, a2 = 5.0;
+  double lod_face_area = 10.0;  // cell^2
+  int global_refinements = 1;
+  int max_cycles = 2000;
+};
+
+// Filter 3: a closed, genus-0, intersection-free wrap shrunk from a sphere
+// around the triangles onto their distance field.
+gdm::Mesh shrink_wrap(const std::vector<Triangle>& input, const WrapParams& w, const Progress& progress,
+                      LogLines* log);
+
+}  // namespace gdm_meshlab

@@ -1,0 +1,78 @@
+// Timings of the core on the phantoms of the paper's section 6 (reported, never
+// asserted). Counters: cycles, final faces, evaluated vertex-cycles, and the
+// time per evaluated vertex-cycle.
+#include <benchmark/benchmark.h>
+
+#include "gdm/deformer.h"
+#include "gdm/phantoms.h"
+#include "gdm/seed.h"
+
+namespace {
+
+using namespace gdm;
+namespace ph = gdm::phantoms;
+
+struct Case {
+  Volume volume;
+  Vec3 seed;
+  double lod;
+};
+
+Case cube_case() {
+  // Section 6.1: 64^3, a cube with one corner missing.
+  ph::Grid grid;
+  const auto sdf = ph::difference(ph::box(Vec3(12, 12, 12), Vec3(52, 52, 52)), ph::box(Vec3(32, 32, 32), Vec3(60, 60, 60)));
+  return {ph::voxelize(grid, sdf), Vec3(24, 24, 24), 10.0};
+}
+
+Case nerve_case() {
+  // A branching object of the size of the tooth's nerve (section 6.3), whose
+  // model ends near 7,000 faces.
+  ph::Grid grid;
+  grid.dims = {96, 96, 150};
+  const Vec3 c = grid.center() + Vec3(0, 0, 20);
+  const auto sdf = ph::unite({ph::capsule(c + Vec3(0, 0, 40), c, 9.0), ph::capsule(c, c + Vec3(22, 0, -60), 6.0),
+                              ph::capsule(c, c + Vec3(-20, 12, -62), 6.0), ph::capsule(c, c + Vec3(-6, -24, -58), 5.5)});
+  return {ph::voxelize(grid, sdf), c + Vec3(0, 0, 30), 10.0};
+}
+
+void run(benchmark::State& state, const Case& k) {
+  DeformOptions options;
+  options.threshold = 125.0;
+  options.lod_face_area = k.lod;
+  options.threads = static_cast<int>(state.range(0));
+  std::size_t faces = 0, evaluated = 0;
+  int cycles = 0;
+  for (auto _ : state) {
+    Mesh mesh = make_icosahedron(k.seed, 3.0);
+    evaluated = 0;
+    const DeformResult r = deform(mesh, k.volume, options, [&](const CycleReport& c) {
+      evaluated += c.evaluated;
+      return true;
+    });
+    faces = mesh.n_faces();
+    cycles = r.cycles;
+  }
+  state.counters["cycles"] = cycles;
+  state.counters["faces"] = static_cast<double>(faces);
+  state.counters["vertex_cycles"] = static_cast<double>(evaluated);
+  state.counters["time_per_vertex_cycle"] =
+      benchmark::Counter(static_cast<double>(evaluated) * static_cast<double>(state.iterations()),
+                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+
+void BM_cube_with_corner_missing(benchmark::State& state) {
+  static const Case k = cube_case();
+  run(state, k);
+}
+
+void BM_branching_nerve(benchmark::State& state) {
+  static const Case k = nerve_case();
+  run(state, k);
+}
+
+}  // namespace
+
+BENCHMARK(BM_cube_with_corner_missing)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_branching_nerve)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_MAIN();
