@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Sets up the machine, builds everything and runs the whole test suite:
+# the Release build's tests, then the core's tests again under
+# AddressSanitizer + UndefinedBehaviorSanitizer, then a short benchmark run
+# (reported, not asserted).
+set -euo pipefail
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+jobs="$(nproc)"
+
+bash "$here/scripts/setup.sh"
+
+echo "== build (Release)"
+bash "$here/scripts/build.sh"
+echo "== tests (Release)"
+ctest --test-dir "$here/build" --output-on-failure -j "$jobs" --timeout 900
+
+echo "== build (core, AddressSanitizer + UndefinedBehaviorSanitizer)"
+GDM_BUILD_DIR="$here/build-sanitize" bash "$here/scripts/build.sh" \
+  -DCMAKE_BUILD_TYPE=RelWithDebInfo -DGDM_SANITIZE=ON -DGDM_BUILD_BENCHMARKS=OFF \
+  -DGDM_BUILD_ITK=OFF -DGDM_BUILD_MESHLAB_PLUGIN=OFF
+echo "== tests (core, sanitizers)"
+ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+  ctest --test-dir "$here/build-sanitize" --output-on-failure -j "$jobs" --timeout 1800
+
+echo "== benchmark (short run, reported only)"
+"$here/build/test/benchmark/gdm_core_benchmark" --benchmark_min_time=0.05 2>&1 | grep -v "^\*\*\*WARNING"
