@@ -1,0 +1,201 @@
+// A ball in an anisotropic, shifted and rotated image: the output is in the
+// image's physical space and fits the analytic sphere; progress and abort.
+#include <chrono>
+#include <cmath>
+#include <iostream>
+#include <vector>
+
+#include "gtest/gtest.h"
+
+#include "itkGDMVolumeConversion.h"
+#include "itkGeometricallyDeformedModelImageToMeshFilter.h"
+#include "itkGeometricallyDeformedModelTestHelpers.h"
+#include "itkMesh.h"
+#include "itkQuadEdgeMesh.h"
+
+#include "gdm/mesh_checks.h"
+
+namespace
+{
+using ImageType = itk::Image<short, 3>;
+constexpr double kRadius = 8.0;
+
+// Spacing (0.7, 0.9, 1.6), origin (-12.5, 30.2, 7.1), direction a rotation of
+// 35 degrees about the axis (1, 2, 3); the ball is centred in the grid.
+ImageType::Pointer
+MakeSphereImage(ImageType::PointType & center)
+{
+  const double          spacing[3] = { 0.7, 0.9, 1.6 };
+  ImageType::RegionType region;
+  ImageType::SizeType   size;
+  for (unsigned int d = 0; d < 3; ++d)
+  {
+    size[d] = static_cast<itk::SizeValueType>(std::ceil(2.0 * (kRadius + 4.0) / spacing[d])) + 1;
+  }
+  region.SetSize(size);
+  auto image = ImageType::New();
+  image->SetRegions(region);
+  image->Allocate();
+  image->SetSpacing(spacing);
+  const double origin[3] = { -12.5, 30.2, 7.1 };
+  image->SetOrigin(origin);
+
+  const Eigen::Matrix3d     r = Eigen::AngleAxisd(35.0 * M_PI / 180.0, Eigen::Vector3d(1, 2, 3).normalized()).matrix();
+  ImageType::DirectionType direction;
+  for (unsigned int i = 0; i < 3; ++i)
+  {
+    for (unsigned int j = 0; j < 3; ++j)
+    {
+      direction[i][j] = r(i, j);
+    }
+  }
+  image->SetDirection(direction);
+
+  itk::ContinuousIndex<double, 3> middle;
+  for (unsigned int d = 0; d < 3; ++d)
+  {
+    middle[d] = (size[d] - 1) / 2.0;
+  }
+  image->TransformContinuousIndexToPhysicalPoint(middle, center);
+  gdmtest::FillBall(image.GetPointer(), center, kRadius, 50.0, 150.0, 1.6);
+  return image;
+}
+
+template <typename TMesh>
+void
+CheckSphere()
+{
+  ImageType::PointType center;
+  const auto           image = MakeSphereImage(center);
+  using FilterType = itk::GeometricallyDeformedModelImageToMeshFilter<ImageType, TMesh>;
+  auto filter = FilterType::New();
+  filter->SetInput(image);
+  filter->SetThreshold(125.0);
+  typename FilterType::PointType seed;
+  for (unsigned int d = 0; d < 3; ++d)
+  {
+    seed[d] = center[d] + 0.5;
+  }
+  filter->SetSeedCenter(seed);
+  filter->SetSeedRadius(3.0);
+
+  const auto start = std::chrono::steady_clock::now();
+  ASSERT_NO_THROW(filter->Update());
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  TMesh * output = filter->GetOutput();
+
+  const gdm::Mesh        mesh = itk::GDMConversion::MeshFromITKMesh(output);
+  const gdm::MeshReport r = gdm::measure(mesh);
+  EXPECT_TRUE(r.closed);
+  EXPECT_TRUE(r.two_manifold);
+  EXPECT_EQ(r.genus, 0);
+  EXPECT_EQ(r.components, 1);
+  EXPECT_EQ(r.self_intersections, 0u);
+
+  // Every point within 0.25 of the smallest spacing of the analytic sphere.
+  double worst = 0.0;
+  double mean = 0.0;
+  for (auto it = output->GetPoints()->Begin(); it != output->GetPoints()->End(); ++it)
+  {
+    const double e = std::abs(it.Value().EuclideanDistanceTo(center) - kRadius);
+    worst = std::max(worst, e);
+    mean += e;
+  }
+  mean /= static_cast<double>(output->GetNumberOfPoints());
+  std::cout << filter->GetNameOfClass() << " -> " << output->GetNameOfClass() << ": " << gdm::to_string(r)
+            << "\n  stop: " << filter->GetStopReason() << ", cycles " << filter->GetNumberOfCycles()
+            << ", mean error " << mean << " mm, max error " << worst << " mm (limit " << 0.25 * 0.7 << "), "
+            << seconds << " s" << std::endl;
+  EXPECT_LE(worst, 0.25 * 0.7);
+
+  // The generation is point data.
+  ASSERT_NE(output->GetPointData(), nullptr);
+  EXPECT_EQ(output->GetPointData()->Size(), output->GetNumberOfPoints());
+  typename TMesh::PixelType largest = 0;
+  for (auto it = output->GetPointData()->Begin(); it != output->GetPointData()->End(); ++it)
+  {
+    largest = std::max(largest, it.Value());
+  }
+  EXPECT_GT(largest, 0);
+}
+
+} // namespace
+
+TEST(itkGDMSphere, AnisotropicRotatedImageToMesh)
+{
+  CheckSphere<itk::Mesh<float, 3>>();
+}
+
+TEST(itkGDMSphere, AnisotropicRotatedImageToQuadEdgeMesh)
+{
+  CheckSphere<itk::QuadEdgeMesh<double, 3>>();
+}
+
+TEST(itkGDMSphere, ProgressIsMonotoneAndEndsAtOne)
+{
+  ImageType::PointType center;
+  const auto           image = MakeSphereImage(center);
+  using FilterType = itk::GeometricallyDeformedModelImageToMeshFilter<ImageType, itk::Mesh<float, 3>>;
+  auto filter = FilterType::New();
+  filter->SetInput(image);
+  filter->SetThreshold(125.0);
+  filter->SetSeedCenter(center);
+  filter->SetSeedRadius(3.0);
+  std::vector<float> progress;
+  filter->AddObserver(itk::ProgressEvent(), [&](const itk::EventObject &) { progress.push_back(filter->GetProgress()); });
+  ASSERT_NO_THROW(filter->Update());
+  ASSERT_GE(progress.size(), 2u);
+  for (std::size_t i = 1; i < progress.size(); ++i)
+  {
+    EXPECT_GE(progress[i], progress[i - 1]) << "at event " << i;
+  }
+  EXPECT_EQ(progress.back(), 1.0f);
+  // At least one event per cycle.
+  EXPECT_GE(progress.size(), filter->GetNumberOfCycles());
+  std::cout << progress.size() << " progress events for " << filter->GetNumberOfCycles() << " cycles" << std::endl;
+}
+
+TEST(itkGDMSphere, AbortFromProgressObserver)
+{
+  ImageType::PointType center;
+  const auto           image = MakeSphereImage(center);
+  using FilterType = itk::GeometricallyDeformedModelImageToMeshFilter<ImageType, itk::QuadEdgeMesh<float, 3>>;
+  auto filter = FilterType::New();
+  filter->SetInput(image);
+  filter->SetThreshold(125.0);
+  filter->SetSeedCenter(center);
+  filter->SetSeedRadius(3.0);
+  int events = 0;
+  int afterAbort = 0;
+  filter->AddObserver(itk::ProgressEvent(), [&](const itk::EventObject &) {
+    if (filter->GetAbortGenerateData())
+    {
+      ++afterAbort;
+    }
+    if (++events == 3)
+    {
+      filter->AbortGenerateDataOn();
+    }
+  });
+  bool aborted = false;
+  try
+  {
+    filter->Update();
+  }
+  catch (const itk::ProcessAborted & e)
+  {
+    aborted = true;
+    std::cout << "aborted: " << e.GetDescription() << std::endl;
+  }
+  EXPECT_TRUE(aborted);
+  EXPECT_EQ(filter->GetStopReason(), "cancelled");
+  EXPECT_LE(filter->GetNumberOfCycles(), 3u);
+  EXPECT_LE(afterAbort, 1);  // ITK may push the progress to 1 once after an abort
+
+  // The filter runs again after an abort.
+  filter->AbortGenerateDataOff();
+  events = -1000000;
+  filter->Modified();
+  EXPECT_NO_THROW(filter->Update());
+  EXPECT_GT(filter->GetOutput()->GetNumberOfFaces(), 20u);
+}

@@ -1,0 +1,289 @@
+// The real tooth CT: the pulp chamber grown from a seed, compared with the
+// marching-cubes iso-surface at the same threshold.
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <deque>
+#include <iostream>
+#include <unordered_map>
+#include <vector>
+
+#include "gtest/gtest.h"
+
+#include "itkBinaryMask3DMeshSource.h"
+#include "itkGDMVolumeConversion.h"
+#include "itkGeometricallyDeformedModelImageToMeshFilter.h"
+#include "itkImageFileReader.h"
+#include "itkMesh.h"
+#include "itksys/SystemTools.hxx"
+
+#include "gdm/mesh_checks.h"
+#include "gdm/phantoms.h"
+
+namespace
+{
+using ImageType = itk::Image<unsigned char, 3>;
+using MeshType = itk::Mesh<float, 3>;
+using Vec3 = gdm::Vec3;
+
+constexpr double kThreshold = 115.0;
+
+// Closest point on triangle abc to p (Ericson, Real-Time Collision Detection, 5.1.5).
+Vec3
+ClosestPointOnTriangle(const Vec3 & p, const Vec3 & a, const Vec3 & b, const Vec3 & c)
+{
+  const Vec3   ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0.0 && d2 <= 0.0)
+    return a;
+  const Vec3   bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0.0 && d4 <= d3)
+    return b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0)
+    return a + ab * (d1 / (d1 - d3));
+  const Vec3   cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0.0 && d5 <= d6)
+    return c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0)
+    return a + ac * (d2 / (d2 - d6));
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0)
+    return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+  const double denom = 1.0 / (va + vb + vc);
+  return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
+// Unsigned distance from points to a triangle soup, with a uniform grid.
+class TriangleDistance
+{
+public:
+  TriangleDistance(std::vector<std::array<Vec3, 3>> triangles, double cell)
+    : m_Triangles(std::move(triangles))
+    , m_Cell(cell)
+  {
+    for (std::size_t t = 0; t < m_Triangles.size(); ++t)
+    {
+      Vec3 lo = m_Triangles[t][0], hi = lo;
+      for (const auto & v : m_Triangles[t])
+      {
+        lo = lo.cwiseMin(v);
+        hi = hi.cwiseMax(v);
+      }
+      const auto l = Key(lo), h = Key(hi);
+      for (long i = l[0]; i <= h[0]; ++i)
+        for (long j = l[1]; j <= h[1]; ++j)
+          for (long k = l[2]; k <= h[2]; ++k)
+            m_Grid[Hash({ i, j, k })].push_back(t);
+    }
+  }
+
+  double
+  operator()(const Vec3 & p) const
+  {
+    const auto c = Key(p);
+    double     best = std::numeric_limits<double>::infinity();
+    for (long ring = 0; ring < 64; ++ring)
+    {
+      for (long i = c[0] - ring; i <= c[0] + ring; ++i)
+        for (long j = c[1] - ring; j <= c[1] + ring; ++j)
+          for (long k = c[2] - ring; k <= c[2] + ring; ++k)
+          {
+            if (std::max({ std::labs(i - c[0]), std::labs(j - c[1]), std::labs(k - c[2]) }) != ring)
+              continue;
+            const auto found = m_Grid.find(Hash({ i, j, k }));
+            if (found == m_Grid.end())
+              continue;
+            for (auto t : found->second)
+            {
+              const auto & tri = m_Triangles[t];
+              best = std::min(best, (ClosestPointOnTriangle(p, tri[0], tri[1], tri[2]) - p).norm());
+            }
+          }
+      if (best <= ring * m_Cell)
+        break;
+    }
+    return best;
+  }
+
+private:
+  std::array<long, 3>
+  Key(const Vec3 & p) const
+  {
+    return { static_cast<long>(std::floor(p.x() / m_Cell)), static_cast<long>(std::floor(p.y() / m_Cell)),
+             static_cast<long>(std::floor(p.z() / m_Cell)) };
+  }
+  static long
+  Hash(const std::array<long, 3> & k)
+  {
+    return (k[0] + 4096) + 8192 * ((k[1] + 4096) + 8192 * (k[2] + 4096));
+  }
+
+  std::vector<std::array<Vec3, 3>>                   m_Triangles;
+  double                                             m_Cell;
+  std::unordered_map<long, std::vector<std::size_t>> m_Grid;
+};
+
+} // namespace
+
+TEST(itkGDMTooth, PulpChamberAgainstMarchingCubes)
+{
+  const std::string file = std::string(GDM_SHARED_DIR) + "/data/tooth/tooth.mhd";
+  if (!itksys::SystemTools::FileExists(file))
+  {
+    GTEST_SKIP() << "tooth data not found at " << file << " (set GDM_SHARED_DIR to the folder holding data/tooth)";
+  }
+  const auto image = itk::ReadImage<ImageType>(file);
+
+  // The GDM, grown from the pulp chamber; the pulp is darker than the dentin.
+  using FilterType = itk::GeometricallyDeformedModelImageToMeshFilter<ImageType, MeshType>;
+  auto                  filter = FilterType::New();
+  ImageType::PointType seed;
+  image->TransformIndexToPhysicalPoint({ { 50, 47, 95 } }, seed);
+  filter->SetInput(image);
+  filter->SetThreshold(kThreshold);
+  filter->SetPolarity(FilterType::PolarityEnum::ObjectDarker);
+  FilterType::PointType center;
+  center.CastFrom(seed);
+  filter->SetSeedCenter(center);
+  filter->SetSeedRadius(2.0);
+  const auto start = std::chrono::steady_clock::now();
+  ASSERT_NO_THROW(filter->Update());
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  const gdm::Mesh        mesh = itk::GDMConversion::MeshFromITKMesh(filter->GetOutput());
+  const gdm::MeshReport r = gdm::measure(mesh);
+  EXPECT_TRUE(r.closed);
+  EXPECT_TRUE(r.two_manifold);
+  EXPECT_EQ(r.components, 1);
+  EXPECT_EQ(r.self_intersections, 0u);
+  EXPECT_EQ(filter->GetNumberOfBorderVertices(), 0u);
+
+  // The pulp: the 6-connected voxels below the threshold reached from the seed
+  // voxel. Everything else is set above the threshold, so that marching cubes
+  // sees only the pulp's iso-surface.
+  const auto        size = image->GetLargestPossibleRegion().GetSize();
+  const std::size_t nx = size[0], ny = size[1], nz = size[2];
+  const auto *      values = image->GetBufferPointer();
+  std::vector<char> pulp(nx * ny * nz, 0);
+  std::deque<std::size_t> queue{ 50 + nx * (47 + ny * 95) };
+  pulp[queue.front()] = 1;
+  while (!queue.empty())
+  {
+    const std::size_t i = queue.front();
+    queue.pop_front();
+    const std::size_t x = i % nx, y = (i / nx) % ny, z = i / (nx * ny);
+    const std::size_t next[6] = { x > 0 ? i - 1 : i,           x + 1 < nx ? i + 1 : i,
+                                  y > 0 ? i - nx : i,          y + 1 < ny ? i + nx : i,
+                                  z > 0 ? i - nx * ny : i,     z + 1 < nz ? i + nx * ny : i };
+    for (auto j : next)
+    {
+      if (!pulp[j] && values[j] < kThreshold)
+      {
+        pulp[j] = 1;
+        queue.push_back(j);
+      }
+    }
+  }
+  auto masked = ImageType::New();
+  masked->CopyInformation(image);
+  masked->SetRegions(image->GetLargestPossibleRegion());
+  masked->Allocate();
+  auto mask = ImageType::New();
+  mask->CopyInformation(image);
+  mask->SetRegions(image->GetLargestPossibleRegion());
+  mask->Allocate();
+  for (std::size_t i = 0; i < pulp.size(); ++i)
+  {
+    masked->GetBufferPointer()[i] = pulp[i] ? values[i] : 255;
+    mask->GetBufferPointer()[i] = pulp[i] ? 1 : 0;
+  }
+
+  // ITK's marching cubes on the pulp mask puts its vertices half-way along grid
+  // edges; moving each to the linearly interpolated threshold crossing on its
+  // edge gives the iso-surface at the threshold.
+  using MCType = itk::BinaryMask3DMeshSource<ImageType, MeshType>;
+  auto mc = MCType::New();
+  mc->SetInput(mask);
+  mc->SetObjectValue(1);
+  mc->Update();
+  const MeshType * mcMesh = mc->GetOutput();
+  std::vector<Vec3> mcPoints(mcMesh->GetNumberOfPoints());
+  std::size_t       snapped = 0;
+  for (auto it = mcMesh->GetPoints()->Begin(); it != mcMesh->GetPoints()->End(); ++it)
+  {
+    itk::ContinuousIndex<double, 3> ci;
+    image->TransformPhysicalPointToContinuousIndex(it.Value(), ci);
+    Vec3 p(it.Value()[0], it.Value()[1], it.Value()[2]);
+    int  halfAxis = -1, halves = 0;
+    for (int d = 0; d < 3; ++d)
+    {
+      if (std::abs(ci[d] - std::floor(ci[d]) - 0.5) < 1e-6)
+      {
+        halfAxis = d;
+        ++halves;
+      }
+    }
+    if (halves == 1)
+    {
+      ImageType::IndexType a, b;
+      for (int d = 0; d < 3; ++d)
+      {
+        a[d] = b[d] = std::lround(ci[d]);
+      }
+      a[halfAxis] = static_cast<long>(std::floor(ci[halfAxis]));
+      b[halfAxis] = a[halfAxis] + 1;
+      if (image->GetLargestPossibleRegion().IsInside(a) && image->GetLargestPossibleRegion().IsInside(b))
+      {
+        const double va = masked->GetPixel(a), vb = masked->GetPixel(b);
+        if ((va - kThreshold) * (vb - kThreshold) < 0.0)
+        {
+          const double           t = (kThreshold - va) / (vb - va);
+          itk::ContinuousIndex<double, 3> q = ci;
+          q[halfAxis] = a[halfAxis] + t;
+          ImageType::PointType pp;
+          image->TransformContinuousIndexToPhysicalPoint(q, pp);
+          p = Vec3(pp[0], pp[1], pp[2]);
+          ++snapped;
+        }
+      }
+    }
+    mcPoints[it.Index()] = p;
+  }
+  std::vector<std::array<Vec3, 3>> triangles;
+  for (auto it = mcMesh->GetCells()->Begin(); it != mcMesh->GetCells()->End(); ++it)
+  {
+    if (it.Value()->GetNumberOfPoints() != 3)
+      continue;
+    const auto * ids = it.Value()->GetPointIds();
+    triangles.push_back({ mcPoints[ids[0]], mcPoints[ids[1]], mcPoints[ids[2]] });
+  }
+  const std::size_t itkMcFaces = triangles.size();
+  const gdm::Volume maskedVolume = itk::GDMConversion::VolumeFromImage(masked.GetPointer());
+  const std::size_t mcFaces = gdm::phantoms::marching_cubes_triangle_count(maskedVolume, kThreshold);
+
+  const double           voxel = maskedVolume.voxel_size();
+  const TriangleDistance distance(std::move(triangles), 2.0 * voxel);
+  double                 mean = 0.0, worst = 0.0;
+  for (auto v : mesh.vertices())
+  {
+    const double d = distance(gdm::to_eigen(mesh.point(v))) / voxel;
+    mean += d;
+    worst = std::max(worst, d);
+  }
+  mean /= static_cast<double>(mesh.n_vertices());
+
+  std::cout << "tooth pulp: " << gdm::to_string(r) << "\n  stop: " << filter->GetStopReason() << ", cycles "
+            << filter->GetNumberOfCycles() << ", " << seconds << " s"
+            << "\n  marching cubes: " << mcFaces << " faces (classic MC count), " << itkMcFaces
+            << " faces (itk::BinaryMask3DMeshSource, " << snapped << " of " << mcPoints.size()
+            << " vertices moved to the crossing)"
+            << "\n  GDM vertex to MC surface: mean " << mean << " voxel, max " << worst << " voxel; GDM faces "
+            << r.faces << " = " << static_cast<double>(r.faces) / mcFaces << " of MC" << std::endl;
+  EXPECT_LE(mean, 0.5);
+  EXPECT_LE(r.faces, mcFaces / 2);
+}

@@ -1,0 +1,178 @@
+// Inputs and checks for the MeshLab plugin's tests.
+//   gdm_ml_testtool inputs <dir>      writes the phantom volume and the meshes
+//   gdm_ml_testtool check <mesh> [--closed] [--manifold] [--genus g]
+//       [--no-self-intersection] [--faces lo hi] [--phantom-sphere maxvox]
+//       [--covers input.ply tol] [--quality]
+// Exit code 0 when every requested check passes; prints the measurements.
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <OpenMesh/Core/IO/MeshIO.hh>
+
+#include "gdm/mesh_checks.h"
+#include "gdm/phantoms.h"
+#include "gdm/seed.h"
+#include "shrink_wrap_field.h"
+
+void write_volume(const gdm::Volume& volume, const std::string& path);
+
+namespace {
+
+// The phantom: an ellipsoid in a 48 x 44 x 40 grid, spacing 1 x 1 x 1.25 mm,
+// away from the origin (physical coordinates must survive the round trip).
+gdm::phantoms::Grid phantom_grid() {
+  gdm::phantoms::Grid g;
+  g.dims = {48, 44, 40};
+  g.spacing = gdm::Vec3(1.0, 1.0, 1.25);
+  g.origin = gdm::Vec3(-30.0, 12.0, 100.0);
+  return g;
+}
+const gdm::Vec3 kRadii(15.0, 12.0, 16.0);
+
+bool write(const gdm::Mesh& mesh, const std::string& path) {
+  if (!OpenMesh::IO::write_mesh(mesh, path)) {
+    std::fprintf(stderr, "cannot write %s\n", path.c_str());
+    return false;
+  }
+  return true;
+}
+
+// Deletes the faces whose centroid satisfies `cut`; drops isolated vertices.
+template <typename Cut>
+gdm::Mesh without_faces(gdm::Mesh mesh, Cut cut) {
+  mesh.request_face_status();
+  mesh.request_edge_status();
+  mesh.request_vertex_status();
+  for (auto f : mesh.faces()) {
+    gdm::Vec3 c = gdm::Vec3::Zero();
+    for (auto v : mesh.fv_range(f)) c += gdm::to_eigen(mesh.point(v)) / 3.0;
+    if (cut(c)) mesh.delete_face(f, true);
+  }
+  mesh.garbage_collection();
+  return mesh;
+}
+
+int inputs(const std::string& dir) {
+  const auto grid = phantom_grid();
+  const gdm::Vec3 c = grid.center();
+  const gdm::Volume volume = gdm::phantoms::voxelize(grid, gdm::phantoms::ellipsoid(c, kRadii));
+  write_volume(volume, dir + "/phantom.mha");
+  // A seed inside the ellipsoid, off centre.
+  if (!write(gdm::make_geodesic_sphere(c + gdm::Vec3(3, -2, 2), 4.0, 1), dir + "/seed_inside.off")) return 1;
+  // An open seed: the same sphere without its top cap.
+  const gdm::Vec3 sc = c + gdm::Vec3(3, -2, 2);
+  if (!write(without_faces(gdm::make_geodesic_sphere(sc, 4.0, 1), [&](const gdm::Vec3& p) { return p.z() > sc.z() + 3.0; }),
+             dir + "/seed_open.off"))
+    return 1;
+  // A non-manifold seed: two closed tetrahedra sharing one vertex (a bow tie), written by hand.
+  {
+    std::ofstream off(dir + "/seed_nonmanifold.off");
+    const double x = c.x(), y = c.y(), z = c.z();
+    off << "OFF\n7 8 0\n";
+    off << x << " " << y << " " << z << "\n";
+    off << x + 3 << " " << y << " " << z << "\n" << x << " " << y + 3 << " " << z << "\n" << x << " " << y << " " << z + 3 << "\n";
+    off << x - 3 << " " << y << " " << z << "\n" << x << " " << y - 3 << " " << z << "\n" << x << " " << y << " " << z - 3 << "\n";
+    off << "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+    off << "3 0 4 5\n3 0 6 4\n3 0 5 6\n3 4 6 5\n";
+  }
+  // The wrap input: a sphere of radius 20 with a hole (a cap of radius ~3.4)
+  // and a small separate sphere beside it, in one file.
+  {
+    gdm::Mesh big = gdm::make_geodesic_sphere(gdm::Vec3(0, 0, 0), 20.0, 4);
+    big = without_faces(big, [](const gdm::Vec3& p) { return p.z() > 19.7; });
+    const gdm::Mesh small = gdm::make_geodesic_sphere(gdm::Vec3(27.0, 0, 0), 4.0, 2);
+    std::vector<gdm::Mesh::VertexHandle> map;
+    for (auto v : small.vertices()) map.push_back(big.add_vertex(small.point(v)));
+    for (auto f : small.faces()) {
+      std::vector<gdm::Mesh::VertexHandle> fv;
+      for (auto v : small.fv_range(f)) fv.push_back(map[v.idx()]);
+      big.add_face(fv);
+    }
+    const auto r = gdm::measure(big);
+    std::printf("wrap input: %s\n", gdm::to_string(r).c_str());
+    if (!write(big, dir + "/wrap_input.ply")) return 1;
+  }
+  std::printf("inputs written to %s\n", dir.c_str());
+  return 0;
+}
+
+std::vector<gdm_meshlab::Triangle> soup(const gdm::Mesh& mesh) {
+  std::vector<gdm_meshlab::Triangle> out;
+  for (auto f : mesh.faces()) {
+    gdm_meshlab::Triangle t;
+    int k = 0;
+    for (auto v : mesh.fv_range(f)) t[k++] = gdm::to_eigen(mesh.point(v));
+    out.push_back(t);
+  }
+  return out;
+}
+
+int check(int argc, char** argv) {
+  const std::string path = argv[2];
+  gdm::Mesh mesh;
+  mesh.request_vertex_colors();
+  OpenMesh::IO::Options opt;
+  if (!OpenMesh::IO::read_mesh(mesh, path, opt)) {
+    std::printf("FAIL cannot read %s\n", path.c_str());
+    return 1;
+  }
+  const gdm::MeshReport r = gdm::measure(mesh);
+  std::printf("%s: %s\n", path.c_str(), gdm::to_string(r).c_str());
+  int failures = 0;
+  const auto expect = [&](bool ok, const std::string& what) {
+    std::printf("%s %s\n", ok ? "ok  " : "FAIL", what.c_str());
+    if (!ok) ++failures;
+  };
+  for (int i = 3; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--closed") expect(r.closed, "closed");
+    else if (a == "--manifold") expect(r.two_manifold, "2-manifold");
+    else if (a == "--genus") { const int g = std::atoi(argv[++i]); expect(r.genus == g && r.components == 1, "genus " + std::to_string(g) + ", one component (genus " + std::to_string(r.genus) + ", " + std::to_string(r.components) + " components)"); }
+    else if (a == "--no-self-intersection") expect(r.self_intersections == 0, "no self-intersection (" + std::to_string(r.self_intersections) + " pairs)");
+    else if (a == "--faces") {
+      const double lo = std::atof(argv[i + 1]), hi = std::atof(argv[i + 2]);
+      i += 2;
+      expect(r.faces >= lo && r.faces <= hi, "faces " + std::to_string(r.faces) + " in [" + argv[i - 1] + ", " + argv[i] + "]");
+    } else if (a == "--phantom") {
+      const double limit = std::atof(argv[++i]);
+      const auto grid = phantom_grid();
+      const gdm::Vec3 c = grid.center();
+      const double voxel = grid.spacing.minCoeff();
+      const auto d = gdm::phantoms::vertex_distances(
+          mesh, [&](const gdm::Vec3& p) { return gdm::phantoms::distance_to_ellipsoid(p, c, kRadii); }, voxel);
+      char buf[200];
+      std::snprintf(buf, sizeof buf, "distance to the analytic surface (voxels): mean %.3f p95 %.3f max %.3f <= %.2f",
+                    d.mean, d.p95, d.max, limit);
+      expect(d.max <= limit, buf);
+    } else if (a == "--covers") {
+      const std::string input_path = argv[++i];
+      const double tol = std::atof(argv[++i]);
+      gdm::Mesh input;
+      if (!OpenMesh::IO::read_mesh(input, input_path)) { expect(false, "read " + input_path); continue; }
+      const gdm_meshlab::TriangleLocator wrap(soup(mesh));
+      double worst = 0.0;
+      for (auto v : input.vertices()) worst = std::max(worst, wrap.distance(gdm::to_eigen(input.point(v))));
+      char buf[200];
+      std::snprintf(buf, sizeof buf, "largest distance of the %zu input vertices from the wrap %.4f <= %.4f",
+                    input.n_vertices(), worst, tol);
+      expect(worst <= tol, buf);
+    } else {
+      std::printf("FAIL unknown check %s\n", a.c_str());
+      ++failures;
+    }
+  }
+  return failures == 0 ? 0 : 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc >= 3 && std::string(argv[1]) == "inputs") return inputs(argv[2]);
+  if (argc >= 3 && std::string(argv[1]) == "check") return check(argc, argv);
+  std::fprintf(stderr, "usage: gdm_ml_testtool inputs <dir> | check <mesh> [checks...]\n");
+  return 2;
+}
