@@ -18,6 +18,7 @@ itk_module(GeometricallyDeformedModel
     ITKIOMeshVTK
     ITKSmoothing
     ITKThresholding
+    ITKImageGrid
   EXCLUDE_FROM_DEFAULT
   DESCRIPTION
     "${DOCUMENTATION}"

@@ -23,6 +23,13 @@ std::array<int, 3> FaceGrid::cell_of(const Vec3& p) const {
 void FaceGrid::insert_box(int face, Vec3 lo, Vec3 hi) {
   lo.array() -= margin_;
   hi.array() += margin_;
+  if (static_cast<std::size_t>(face) >= stamp_.size()) {
+    stamp_.resize(face + 1, 0);
+    box_lo_.resize(face + 1, Vec3::Constant(std::numeric_limits<double>::infinity()));
+    box_hi_.resize(face + 1, Vec3::Constant(-std::numeric_limits<double>::infinity()));
+  }
+  box_lo_[face] = box_lo_[face].cwiseMin(lo);
+  box_hi_[face] = box_hi_[face].cwiseMax(hi);
   const auto a = cell_of(lo), b = cell_of(hi);
   for (int x = a[0]; x <= b[0]; ++x)
     for (int y = a[1]; y <= b[1]; ++y)
@@ -34,6 +41,8 @@ void FaceGrid::rebuild(const Mesh& mesh, double cell_size, double margin) {
   margin_ = margin;
   for (auto& [k, list] : cells_) list.clear();
   stamp_.assign(mesh.n_faces(), 0);
+  box_lo_.assign(mesh.n_faces(), Vec3::Constant(std::numeric_limits<double>::infinity()));
+  box_hi_.assign(mesh.n_faces(), Vec3::Constant(-std::numeric_limits<double>::infinity()));
   current_stamp_ = 0;
   for (auto f : mesh.faces()) insert(mesh, f);
 }
@@ -45,7 +54,6 @@ void FaceGrid::insert(const Mesh& mesh, Mesh::FaceHandle f) {
     lo = lo.cwiseMin(p);
     hi = hi.cwiseMax(p);
   }
-  if (static_cast<std::size_t>(f.idx()) >= stamp_.size()) stamp_.resize(f.idx() + 1, 0);
   insert_box(f.idx(), lo, hi);
 }
 
@@ -64,6 +72,7 @@ void FaceGrid::for_each_near(const Vec3& lo, const Vec3& hi, Visit&& visit) {
         for (int f : it->second) {
           if (stamp_[f] == current_stamp_) continue;
           stamp_[f] = current_stamp_;
+          if ((box_lo_[f].array() > hi.array()).any() || (box_hi_[f].array() < lo.array()).any()) continue;
           visit(f);
         }
       }
@@ -94,11 +103,11 @@ void IntersectionGuard::rebuild() {
 IntersectionGuard::Triangle IntersectionGuard::face_triangle(int face, int moved_vertex,
                                                              const Vec3& moved_to) const {
   Triangle t;
-  int i = 0;
-  for (auto v : mesh_->fv_range(Mesh::FaceHandle(face))) {
+  auto h = mesh_->halfedge_handle(Mesh::FaceHandle(face));
+  for (int i = 0; i < 3; ++i, h = mesh_->next_halfedge_handle(h)) {
+    const auto v = mesh_->to_vertex_handle(h);
     t.id[i] = v.idx();
     t.p[i] = v.idx() == moved_vertex ? moved_to : to_eigen(mesh_->point(v));
-    ++i;
   }
   return t;
 }

@@ -350,10 +350,49 @@ bool triangles_touch(const std::array<Vec3, 3>& t1,
   return false;
 }
 
+namespace {
+
+// A floating-point filter for triangles_intersect_improperly: returns 0 when
+// one triangle's plane provably separates the other triangle's unshared
+// corners from it (all strictly on one side, by a margin far above rounding
+// error), so the pair cannot meet improperly; -1 when it cannot tell (the
+// exact code then decides). Both triangles must be clearly non-degenerate.
+int separated_by_a_plane(const std::array<Vec3, 3>& t1, const std::array<int, 3>& ids1,
+                         const std::array<Vec3, 3>& t2, const std::array<int, 3>& ids2) {
+  double scale = 0.0;
+  for (const auto* t : {&t1, &t2})
+    for (const auto& p : *t) scale = std::max(scale, (p - t1[0]).cwiseAbs().maxCoeff());
+  if (!(scale > 0.0) || !std::isfinite(scale)) return -1;
+  const auto plane_separates = [&](const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b,
+                                   const std::array<int, 3>& ida, const std::array<int, 3>& idb) {
+    const Vec3 n = (a[1] - a[0]).cross(a[2] - a[0]);
+    const double n_norm = n.norm();
+    if (!(n_norm > 1e-6 * scale * scale)) return false;  // too thin to trust the filter
+    const double margin = 1e-10 * n_norm * scale;
+    int side = 0;
+    for (int j = 0; j < 3; ++j) {
+      if (idb[j] == ida[0] || idb[j] == ida[1] || idb[j] == ida[2]) continue;  // a shared corner
+      const double d = n.dot(b[j] - a[0]);
+      const int s = d > margin ? 1 : (d < -margin ? -1 : 0);
+      if (s == 0 || (side != 0 && s != side)) return false;
+      side = s;
+    }
+    return side != 0;
+  };
+  for (const auto* t : {&t1, &t2})  // a (nearly) degenerate triangle goes to the exact code
+    if (!(((*t)[1] - (*t)[0]).cross((*t)[2] - (*t)[0]).norm() > 1e-6 * scale * scale)) return -1;
+  if (plane_separates(t1, t2, ids1, ids2) || plane_separates(t2, t1, ids2, ids1)) return 0;
+  return -1;
+}
+
+}  // namespace
+
 bool triangles_intersect_improperly(const std::array<Vec3, 3>& t1,
                                     const std::array<int, 3>& ids1,
                                     const std::array<Vec3, 3>& t2,
                                     const std::array<int, 3>& ids2) {
+  if (const int quick = separated_by_a_plane(t1, ids1, t2, ids2); quick >= 0) return quick != 0;
+
   // Degenerate triangles: a zero-area face has no well-defined side, so it
   // counts as intersecting anything it touches, including a neighbour it only
   // shares vertices with (shared vertices always touch).

@@ -34,6 +34,7 @@ class FaceGrid {
   double cell_size_ = 1.0;
   double margin_ = 0.0;
   std::unordered_map<Key, std::vector<int>> cells_;
+  std::vector<Vec3> box_lo_, box_hi_;  // per face: union of its registered (inflated) boxes
   std::vector<std::uint32_t> stamp_;
   std::uint32_t current_stamp_ = 0;
 };

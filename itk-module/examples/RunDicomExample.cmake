@@ -1,0 +1,16 @@
+# Runs the DICOM example when the series exists; prints SKIP otherwise (the
+# test's SKIP_REGULAR_EXPRESSION turns that into a skipped test).
+if(NOT EXISTS "${SERIES}")
+  message("SKIP: the DICOM series ${SERIES} is absent")
+  return()
+endif()
+file(REMOVE "${OUTPUT}")
+execute_process(COMMAND "${EXAMPLE}" "${SERIES}" "${OUTPUT}" ${ARGS} RESULT_VARIABLE rc)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "the example failed (${rc})")
+endif()
+if(NOT EXISTS "${OUTPUT}")
+  message(FATAL_ERROR "the example wrote no mesh")
+endif()
+file(SIZE "${OUTPUT}" size)
+message("mesh file ${OUTPUT}: ${size} bytes")
