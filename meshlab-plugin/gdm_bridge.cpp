@@ -260,6 +260,21 @@ gdm::Mesh shrink_wrap(const std::vector<Triangle>& input, const WrapParams& w, c
   const gdm::MeshReport report = gdm::measure(mesh);
   if (!report.closed || !report.two_manifold || report.genus != 0 || report.self_intersections != 0)
     throw gdm::Error("the wrap failed its checks (" + gdm::to_string(report) + ")");
+  // MeshLab stores float coordinates: sheets of the wrap that the guard let
+  // come very close can cross once rounded. Check the rounded mesh too.
+  {
+    gdm::Mesh rounded = mesh;
+    for (auto v : rounded.vertices()) {
+      auto p = rounded.point(v);
+      for (int i = 0; i < 3; ++i) p[i] = static_cast<double>(static_cast<float>(p[i]));
+      rounded.set_point(v, p);
+    }
+    const std::size_t crossings = gdm::self_intersecting_pairs(rounded);
+    if (crossings > 0)
+      log->push_back("warning: " + std::to_string(crossings) +
+                     " face pairs intersect once the coordinates are rounded to MeshLab's float precision "
+                     "(nearly touching sheets in narrow gaps)");
+  }
   // Largest distances both ways, exact.
   std::vector<Triangle> wrap_triangles;
   for (auto f : mesh.faces()) {

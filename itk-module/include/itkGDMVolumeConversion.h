@@ -14,6 +14,15 @@
 #include <utility>
 #include <vector>
 
+// ITK 5.2 bundles Eigen 3.3 (itkeigen/) with the same include guards as the
+// system Eigen 3.4 used by the gdm headers. Whichever comes first wins; ITK's
+// Eigenvalues module only compiles against its own Eigen core, while the gdm
+// headers compile against either. So ITK's Eigen is loaded here, before any
+// gdm header: in a translation unit that mixes ITK and gdm, include this
+// header (or any ITK header that uses Eigen, e.g. itkImageIOBase.h) before
+// including gdm headers directly.
+#include "itkSymmetricEigenAnalysis.h"
+
 #include "itkImage.h"
 #include "itkImageRegionConstIterator.h"
 #include "itkMesh.h"

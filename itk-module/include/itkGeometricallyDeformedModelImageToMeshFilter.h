@@ -11,6 +11,7 @@
 #include <ostream>
 #include <string>
 
+#include "itkGDMVolumeConversion.h" // first: loads ITK's Eigen before the gdm headers
 #include "itkImageToMeshFilter.h"
 #include "itkMacro.h"
 #include "itkNumericTraits.h"

@@ -194,6 +194,8 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::GenerateD
     try
     {
       GDMConversion::MeshToITKMesh(mesh, output);
+      // The whole mesh is the buffered region (or the pipeline runs again).
+      output->SetBufferedRegion(output->GetRequestedRegion());
     }
     catch (const gdm::Error & error)
     {

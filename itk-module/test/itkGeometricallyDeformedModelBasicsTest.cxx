@@ -145,7 +145,7 @@ ExerciseBasicsAndSetGet()
          "MaximumNumberOfCycles", "ConvergenceTolerance", "ConvergenceWindow", "PreventSelfIntersection",
          "ImproveTriangles", "FlipMaximumDihedralAngle", "MaximumNumberOfFaces", "SeedCenter", "SeedRadius",
          "SeedSubdivisionLevel", "StopReason", "NumberOfCycles", "NumberOfGlobalRefinementsPerformed",
-         "NumberOfRejectedMoves", "NumberOfFlips", "NumberOfBorderVertices", "NumberOfWorkUnits" })
+         "NumberOfRejectedMoves", "NumberOfFlips", "NumberOfBorderVertices" })
   {
     if (printed.str().find(std::string(name) + ":") == std::string::npos)
     {
@@ -237,7 +237,7 @@ TEST(itkGDMBasics, MeshConversionsRoundTrip)
     EXPECT_EQ(r.vertices, sphere.n_vertices());
     EXPECT_TRUE(r.closed && r.two_manifold);
     EXPECT_EQ(r.genus, 0);
-    EXPECT_NEAR(r.volume, gdm::enclosed_volume(sphere), 1e-6);  // orientation kept
+    EXPECT_NEAR(r.volume, gdm::enclosed_volume(sphere), 1e-4);  // orientation kept (float points)
   }
 }
 
