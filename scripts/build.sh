@@ -5,6 +5,6 @@ set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${GDM_BUILD_DIR:-$here/build}"
 cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release \
-  -DGDM_BUILD_TESTS=ON -DGDM_BUILD_BENCHMARKS=ON -DGDM_BUILD_MESHLAB_PLUGIN=ON "$@" >"$build.configure.log" 2>&1 ||
+  -DGDM_BUILD_TESTS=ON -DGDM_BUILD_BENCHMARKS=ON -DGDM_BUILD_MESHLAB_PLUGIN=ON -DGDM_BUILD_ITK=ON "$@" >"$build.configure.log" 2>&1 ||
   { cat "$build.configure.log"; exit 1; }
 cmake --build "$build" -- -k 0 >"$build.build.log" 2>&1 || { grep -E "error|FAILED" -A3 "$build.build.log" | head -80; exit 1; }

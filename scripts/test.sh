@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Sets up the machine, builds everything and runs the whole test suite:
-# the Release build's tests, then the core's tests again under
+# the Release build's tests (core, ITK module, MeshLab plugin), the ITK
+# module again as an ITK external module, then the core's tests again under
 # AddressSanitizer + UndefinedBehaviorSanitizer, then a short benchmark run
 # (reported, not asserted).
 set -euo pipefail
@@ -13,6 +14,9 @@ echo "== build (Release)"
 bash "$here/scripts/build.sh"
 echo "== tests (Release)"
 ctest --test-dir "$here/build" --output-on-failure -j "$jobs" --timeout 900
+
+echo "== ITK module built as an ITK external module (ITK's module machinery)"
+bash "$here/itk-module/scripts/build-external.sh" "$here/build-itk-external"
 
 echo "== build (core, AddressSanitizer + UndefinedBehaviorSanitizer)"
 GDM_BUILD_DIR="$here/build-sanitize" bash "$here/scripts/build.sh" \

@@ -99,12 +99,13 @@ class Deformer {
         observer_(observer),
         voxel_(volume.voxel_size()),
         threads_(resolve_thread_count(options.threads)),
-        max_travel_(options.refinement_travel * lod_edge_length(options, volume.voxel_size())),
         cost_{DeformationPotential(options.a0, options.reach, voxel_),
               ImageEvent(options.a1, volume, options.threshold, options.polarity, options.mode,
                          effective_intensity_scale(options, volume)),
               TopologyTerm(options.a2, options.lod_topology_extent ? lod_ring_extent(options, voxel_) : 0.0,
-                           options.max_topology_ratio)} {}
+                           options.max_topology_ratio)} {
+    max_travel_ = options.refinement_travel * lod_edge_length(options, voxel_);
+  }
 
   void check_seed() const;
   DeformResult run();
