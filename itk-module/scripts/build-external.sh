@@ -20,6 +20,7 @@ if [ ! -f "$helpers/ITKModuleExternal.cmake" ]; then
 fi
 
 mkdir -p "$build"
+export CCACHE_BASEDIR="$repo" CCACHE_NOHASHDIR=1
 stamp="$build/.build-external-stamp"
 touch "$stamp"
 
