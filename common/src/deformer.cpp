@@ -266,22 +266,21 @@ std::vector<int> Deformer::evaluate_active(std::vector<StepResult>& steps) {
     const Mesh::VertexHandle v(active[k]);
     const VertexNeighbourhood n = neighbourhood(v);
     StepResult r = steepest_descent_step(cost_, n, step_[v.idx()], voxel_, o_.optimizer);
-    // A vertex that came back from the blocked region does not cross into it
-    // again this stage: it would only oscillate around the boundary.
-    if (r.moved && settled_[v.idx()] && cost_.image.is_blocked(r.position) && !cost_.image.is_blocked(n.position)) {
-      r.moved = false;
-      r.position = n.position;
-      r.cost = cost_(n, n.position);
-      r.next_step = o_.optimizer.min_step;
-    }
-    // After a global refinement the model only refines what it found: a
-    // vertex may not travel far (a leak through a hole the finer mesh could
-    // now pass).
-    if (r.moved && report_.stage > 0 && (r.position - stage_start_[v.idx()]).norm() > max_travel_) {
-      r.moved = false;
-      r.position = n.position;
-      r.cost = cost_(n, n.position);
-      r.next_step = o_.optimizer.min_step;
+    if (r.moved) {
+      // A vertex that came back from the blocked region does not cross into
+      // it again this stage: it would only oscillate around the boundary.
+      const bool recrosses =
+          settled_[v.idx()] && cost_.image.is_blocked(r.position) && !cost_.image.is_blocked(n.position);
+      // After a global refinement the model only refines what it found: a
+      // vertex may not travel far (a leak through a hole the finer mesh could
+      // now pass).
+      const bool travels_too_far = report_.stage > 0 && (r.position - stage_start_[v.idx()]).norm() > max_travel_;
+      if (recrosses || travels_too_far) {
+        r.moved = false;
+        r.position = n.position;
+        r.cost = cost_(n, n.position);
+        r.next_step = o_.optimizer.min_step;
+      }
     }
     steps[k] = r;
   });

@@ -25,9 +25,10 @@ void subdivide_all(Mesh& mesh, int generation);
 
 // Edge flips that make the triangulation closer to Delaunay on nearly flat
 // regions (the dihedral angle across the edge within `max_dihedral_deg` of
-// flat). `allow(a, b, c, d)` is asked before each flip with the two triangles
-// (a, b, c) and (a, c, d) that the flip would create; returning false vetoes it
-// (used by the self-intersection guard). Returns the number of flips.
+// flat). `allow(edge, quad)` is asked before each flip; the flip would create
+// the triangles (quad[0], quad[1], quad[3]) and (quad[2], quad[3], quad[1]);
+// returning false vetoes it (used by the self-intersection guard). Returns the
+// number of flips.
 using FlipVeto = std::function<bool(Mesh::EdgeHandle, const Mesh::VertexHandle (&)[4])>;
 std::size_t flip_to_improve(Mesh& mesh, double max_dihedral_deg, const FlipVeto& allow);
 
