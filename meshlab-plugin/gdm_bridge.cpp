@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "gdm/errors.h"
+#include "gdm/float_snap.h"
 #include "gdm/mesh_checks.h"
 #include "gdm/seed.h"
 #include "volume_io.h"
@@ -47,7 +48,14 @@ gdm::DeformOptions deform_options(double a0, double a1, double a2, double lod, i
   return o;
 }
 
-void log_result(const gdm::DeformResult& r, const gdm::Mesh& mesh, LogLines* log) {
+// Compacts the model, moves it onto float-representable points (MeshLab
+// stores float coordinates; see gdm/float_snap.h) and logs the outcome.
+void finish_model(const gdm::DeformResult& r, gdm::Mesh& mesh, LogLines* log) {
+  mesh.garbage_collection();
+  const gdm::FloatSnapResult snap = gdm::snap_to_float(mesh);
+  if (snap.refused > 0)
+    log->push_back("warning: " + std::to_string(snap.refused) +
+                   " vertices could not be moved to float precision without a self-intersection");
   log->push_back("deformation " + gdm::to_string(r.reason) + " after " + std::to_string(r.cycles) + " cycles (" +
                  std::to_string(r.global_refinements) + " global refinements, " + std::to_string(r.rejected_moves) +
                  " moves vetoed by the self-intersection guard)");
@@ -186,8 +194,7 @@ gdm::Mesh model_from_volume(const VolumeParams& v, const SeedParams& s, const Pr
   const auto result =
       gdm::deform(mesh, lv.volume, o, observer_for(progress, 5, 99, v.global_refinements + 1, "Deforming the model"));
   if (result.reason == gdm::StopReason::cancelled) throw gdm::Error("cancelled");
-  mesh.garbage_collection();
-  log_result(result, mesh, log);
+  finish_model(result, mesh, log);
   return mesh;
 }
 
@@ -200,8 +207,7 @@ gdm::Mesh deform_seed_in_volume(gdm::Mesh seed, const VolumeParams& v, const Pro
   const auto result =
       gdm::deform(seed, lv.volume, o, observer_for(progress, 5, 99, v.global_refinements + 1, "Deforming the seed"));
   if (result.reason == gdm::StopReason::cancelled) throw gdm::Error("cancelled");
-  seed.garbage_collection();
-  log_result(result, seed, log);
+  finish_model(result, seed, log);
   return seed;
 }
 
@@ -253,27 +259,21 @@ gdm::Mesh shrink_wrap(const std::vector<Triangle>& input, const WrapParams& w, c
   const auto result =
       gdm::deform(mesh, field, o, observer_for(progress, 20, 95, w.global_refinements + 1, "Shrinking the wrap"));
   if (result.reason == gdm::StopReason::cancelled) throw gdm::Error("cancelled");
-  mesh.garbage_collection();
-  log_result(result, mesh, log);
+  finish_model(result, mesh, log);
 
   if (progress) progress(96, "Measuring the wrap");
   const gdm::MeshReport report = gdm::measure(mesh);
   if (!report.closed || !report.two_manifold || report.genus != 0 || report.self_intersections != 0)
     throw gdm::Error("the wrap failed its checks (" + gdm::to_string(report) + ")");
-  // MeshLab stores float coordinates: sheets of the wrap that the guard let
-  // come very close can cross once rounded. Check the rounded mesh too.
+  // finish_model put the wrap on float points: MeshLab's rounding changes nothing. Check it.
   {
     gdm::Mesh rounded = mesh;
-    for (auto v : rounded.vertices()) {
-      auto p = rounded.point(v);
-      for (int i = 0; i < 3; ++i) p[i] = static_cast<double>(static_cast<float>(p[i]));
-      rounded.set_point(v, p);
-    }
+    for (auto v : rounded.vertices())
+      rounded.set_point(v, gdm::to_point(gdm::round_to_float(gdm::to_eigen(rounded.point(v)))));
     const std::size_t crossings = gdm::self_intersecting_pairs(rounded);
     if (crossings > 0)
       log->push_back("warning: " + std::to_string(crossings) +
-                     " face pairs intersect once the coordinates are rounded to MeshLab's float precision "
-                     "(nearly touching sheets in narrow gaps)");
+                     " face pairs intersect once the coordinates are rounded to MeshLab's float precision");
   }
   // Largest distances both ways, exact.
   std::vector<Triangle> wrap_triangles;
