@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -95,6 +96,13 @@ int inputs(const std::string& dir) {
     const auto r = gdm::measure(big);
     std::printf("wrap input: %s\n", gdm::to_string(r).c_str());
     if (!write(big, dir + "/wrap_input.ply")) return 1;
+    // The same input as a noisy scan: every vertex jittered by a Gaussian of
+    // 0.3 mm per axis (fixed seed), so faces tilt and the holes' rims fray.
+    std::mt19937 rng(7);
+    std::normal_distribution<double> jitter(0.0, 0.3);
+    for (auto v : big.vertices())
+      big.set_point(v, gdm::to_point(gdm::to_eigen(big.point(v)) + gdm::Vec3(jitter(rng), jitter(rng), jitter(rng))));
+    if (!write(big, dir + "/wrap_noisy.ply")) return 1;
   }
   std::printf("inputs written to %s\n", dir.c_str());
   return 0;
