@@ -1,0 +1,28 @@
+// Reading the input volume: a DICOM series folder, a single DICOM file or an
+// image file ITK can read (.mha/.mhd, .nrrd/.nhdr, .nii/.nii.gz, .vtk), any
+// scalar pixel type, as float with spacing, origin and direction kept.
+#pragma once
+
+#include <array>
+#include <ostream>
+#include <string>
+
+#include "itkImage.h"
+
+#include "run_record.h"
+
+namespace gdm_cli {
+
+using Image = itk::Image<float, 3>;
+
+
+// Reads `path`; `series_uid` selects a DICOM series (empty: the one with most
+// slices). Throws InputError naming the problem, UsageError for an unknown
+// series UID. Progress notes (which series) go to `log`.
+Image::Pointer read_input(const std::string& path, const std::string& series_uid, InputInfo& info,
+                          std::ostream& log);
+
+// Fills size, spacing, origin, direction and the value range from `image`.
+void describe_image(const Image* image, InputInfo& info);
+
+}  // namespace gdm_cli

@@ -1,0 +1,26 @@
+// Mesh files by extension: .ply (binary little-endian, with the per-vertex
+// generation as an int property), .obj, .stl (binary), .off, .vtk (legacy
+// ASCII polydata with the generation as point data). Every file is written to
+// a temporary name in the same folder and renamed, so a failed run leaves no
+// partial file.
+#pragma once
+
+#include <string>
+
+#include "surface_mesh.h"
+
+namespace gdm_cli {
+
+// True for the extensions above (case-insensitive).
+bool is_supported_mesh_extension(const std::string& path);
+
+// Throws OutputError (unsupported extension, cannot write, cannot rename).
+void write_mesh(const SurfaceMesh& mesh, const std::string& path);
+
+// Writes `text` to `path` through a temporary name; throws OutputError.
+void write_text_file(const std::string& text, const std::string& path);
+
+// Lower-case extension with its dot (".nii.gz" counts as one), "" when none.
+std::string file_extension(const std::string& path);
+
+}  // namespace gdm_cli

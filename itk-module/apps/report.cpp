@@ -1,0 +1,158 @@
+#include "report.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <sstream>
+
+#include "gdm/mesh_checks.h"
+#include "json_writer.h"
+
+namespace gdm_cli {
+namespace {
+
+std::string fixed(double x, int digits) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.*f", digits, x);
+  return buffer;
+}
+
+std::string vec(const std::array<double, 3>& v, int digits) {
+  return "(" + fixed(v[0], digits) + ", " + fixed(v[1], digits) + ", " + fixed(v[2], digits) + ")";
+}
+
+}  // namespace
+
+MeshFigures measure_mesh(const SurfaceMesh& m) {
+  gdm::Mesh mesh;
+  std::vector<gdm::Mesh::VertexHandle> handles;
+  handles.reserve(m.points.size());
+  for (const auto& p : m.points) handles.push_back(mesh.add_vertex(gdm::Mesh::Point(p[0], p[1], p[2])));
+  std::size_t rejected = 0;
+  for (const auto& f : m.faces)
+    if (!mesh.add_face(handles[f[0]], handles[f[1]], handles[f[2]]).is_valid()) ++rejected;
+
+  const gdm::MeshReport r = gdm::measure(mesh);
+  MeshFigures out;
+  out.vertices = m.points.size();
+  out.faces = m.faces.size();
+  out.edges = r.edges;
+  out.closed = r.closed && rejected == 0;
+  out.manifold = r.two_manifold && rejected == 0;
+  out.euler = r.euler;
+  out.genus = r.genus;
+  out.components = r.components;
+  out.self_intersections = r.self_intersections;
+  out.volume_mm3 = r.volume;
+  out.area_mm2 = r.area;
+  out.min_angle_deg = r.min_angle_deg;
+  if (!m.points.empty()) {
+    out.low = out.high = m.points.front();
+    for (const auto& p : m.points)
+      for (int d = 0; d < 3; ++d) {
+        out.low[d] = std::min(out.low[d], p[d]);
+        out.high[d] = std::max(out.high[d], p[d]);
+      }
+  }
+  for (const int g : m.generation) out.max_generation = std::max(out.max_generation, g);
+  return out;
+}
+
+std::string input_text(const InputInfo& in) {
+  std::ostringstream s;
+  s << "input: " << in.path << " (" << in.format;
+  if (!in.series_uid.empty()) s << ", series " << in.series_uid << ", " << in.files << " slices";
+  s << ", " << in.pixel_type << ")\n"
+    << "  dimensions " << in.size[0] << " x " << in.size[1] << " x " << in.size[2] << " voxels, spacing "
+    << fixed(in.spacing[0], 4) << " x " << fixed(in.spacing[1], 4) << " x " << fixed(in.spacing[2], 4) << " mm\n"
+    << "  origin " << vec(in.origin, 3) << " mm, value range [" << in.minimum << ", " << in.maximum << "]\n";
+  return s.str();
+}
+
+std::string summary_text(const RunRecord& r) {
+  const MeshFigures& m = r.mesh;
+  std::ostringstream s;
+  s << "model: " << m.vertices << " vertices, " << m.faces << " faces, " << r.model.cycles << " cycles ("
+    << r.model.stop_reason << "), " << r.model.refinements << " global refinement(s)\n"
+    << "  closed " << (m.closed ? "yes" : "NO") << ", manifold " << (m.manifold ? "yes" : "NO") << ", genus "
+    << m.genus << ", components " << m.components << ", self-intersections " << m.self_intersections << "\n"
+    << "  volume " << fixed(m.volume_mm3, 1) << " mm^3 = " << fixed(m.volume_mm3 / 1000.0, 3) << " ml, area "
+    << fixed(m.area_mm2, 1) << " mm^2\n"
+    << "  extent " << vec(m.low, 2) << " to " << vec(m.high, 2) << " mm\n"
+    << "  time " << fixed(r.model.seconds, 2) << " s model, " << fixed(r.total_seconds, 2) << " s total\n";
+  if (!r.output.empty()) s << "wrote " << r.output << "\n";
+  return s.str();
+}
+
+std::string report_json(const RunRecord& r, const Options& options) {
+  JsonObject input;
+  input.add("path", json_string(r.input.path))
+      .add("format", json_string(r.input.format))
+      .add("series_uid", r.input.series_uid.empty() ? "null" : json_string(r.input.series_uid))
+      .add("files", json_number(r.input.files))
+      .add("pixel_type", json_string(r.input.pixel_type))
+      .add("size", "[" + std::to_string(r.input.size[0]) + ", " + std::to_string(r.input.size[1]) + ", " +
+                       std::to_string(r.input.size[2]) + "]")
+      .add("spacing_mm", json_array(r.input.spacing))
+      .add("origin_mm", json_array(r.input.origin))
+      .add("direction", json_array(r.input.direction))
+      .add("value_min", json_number(r.input.minimum))
+      .add("value_max", json_number(r.input.maximum));
+
+  JsonObject threshold;
+  threshold.add("value", json_number(r.threshold)).add("source", json_string(r.threshold_source));
+
+  JsonObject seed;
+  seed.add("source", json_string(r.seed_source))
+      .add("center_mm", json_array(r.seed_center))
+      .add("radius_mm", json_number(r.seed_radius));
+  if (r.seed_source == "auto") {
+    seed.add("depth_mm", json_number(r.seed_depth))
+        .add("region_voxels", json_number(r.seed_region_voxels))
+        .add("regions", json_number(r.seed_regions));
+  }
+
+  JsonObject model;
+  model.add("stop_reason", r.model.stop_reason.empty() ? "null" : json_string(r.model.stop_reason))
+      .add("cycles", json_number(r.model.cycles))
+      .add("global_refinements", json_number(r.model.refinements))
+      .add("rejected_moves", json_number(r.model.rejected_moves))
+      .add("flips", json_number(r.model.flips))
+      .add("border_vertices", json_number(r.model.border_vertices))
+      .add("seconds", json_number(r.model.seconds));
+
+  const MeshFigures& m = r.mesh;
+  JsonObject mesh;
+  mesh.add("vertices", json_number(m.vertices))
+      .add("faces", json_number(m.faces))
+      .add("edges", json_number(m.edges))
+      .add("closed", json_bool(m.closed))
+      .add("manifold", json_bool(m.manifold))
+      .add("euler_characteristic", json_number(m.euler))
+      .add("genus", json_number(m.genus))
+      .add("components", json_number(m.components))
+      .add("self_intersections", json_number(m.self_intersections))
+      .add("volume_mm3", json_number(m.volume_mm3))
+      .add("volume_ml", json_number(m.volume_mm3 / 1000.0))
+      .add("area_mm2", json_number(m.area_mm2))
+      .add("min_angle_deg", json_number(m.min_angle_deg))
+      .add("bounds_min_mm", json_array(m.low))
+      .add("bounds_max_mm", json_array(m.high))
+      .add("max_generation", json_number(m.max_generation));
+
+  JsonObject root;
+  root.add("program", json_string("gdm"))
+      .add("version", json_string(GDM_VERSION))
+      .add("status", json_string(r.status))
+      .add("exit_code", json_number(r.exit_code))
+      .add("output", r.output.empty() ? "null" : json_string(r.output))
+      .add("input", input.str())
+      .add("threshold", threshold.str())
+      .add("seed", seed.str())
+      .add("model", model.str())
+      .add("mesh", mesh.str())
+      .add("total_seconds", json_number(r.total_seconds))
+      .add("parameters", parameters_json(options, 2));
+  return root.str() + "\n";
+}
+
+}  // namespace gdm_cli

@@ -1,0 +1,40 @@
+// Runs itk::GeometricallyDeformedModelImageToMeshFilter (the one code path
+// to the core) on the preprocessed image.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <functional>
+#include <string>
+
+#include "image_input.h"  // ITK first (see the build notes on Eigen)
+#include "surface_mesh.h"
+
+#include "gdm/deformer.h"
+
+namespace gdm_cli {
+
+struct ModelSeed {
+  bool use_mesh = false;
+  SurfaceMesh mesh;                     // when use_mesh
+  std::array<double, 3> center{0, 0, 0};  // mm, the sphere otherwise
+  double radius = 1.0;                  // mm
+  int level = 1;                        // icosahedron subdivisions
+};
+
+struct ModelResult {
+  SurfaceMesh mesh;
+  ModelStats stats;
+};
+
+// Called once per deformation cycle with the cycle number and the filter's progress in [0, 1).
+using ProgressCallback = std::function<void(std::size_t cycle, double progress)>;
+
+// Throws ModelError with the filter's message when the run fails.
+ModelResult run_model(const Image* image, const gdm::DeformOptions& options, const ModelSeed& seed,
+                      const ProgressCallback& progress);
+
+// Reads a seed mesh (.vtk, .obj, .off) with ITK's mesh readers; throws InputError.
+SurfaceMesh read_seed_mesh(const std::string& path);
+
+}  // namespace gdm_cli
