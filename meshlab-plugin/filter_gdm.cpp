@@ -28,6 +28,8 @@ gdm_meshlab::VolumeParams volumeParams(const RichParameterList &par)
 	v.lod_face_area = par.getFloat("LevelOfDetail");
 	v.global_refinements = par.getInt("GlobalRefinements");
 	v.max_cycles = par.getInt("MaxCycles");
+	v.subvoxel_fit = par.getBool("SubvoxelFit");
+	v.lod_tolerance = par.getFloat("ErrorTolerance");
 	return v;
 }
 
@@ -159,6 +161,17 @@ void FilterGdmPlugin::addWeightParameters(RichParameterList &par, const QString 
 		"(section 6, 0 to 4)."));
 	par.addParam(RichInt("MaxCycles", 2000, "Maximum cycles",
 		"Hard limit on the number of deformation cycles, all refinements together."));
+	par.addParam(RichBool("SubvoxelFit", true, "Sub-voxel final fit",
+		"Beyond the paper: after the last convergence every vertex moves along its normal onto the threshold "
+		"crossing of the trilinear field (at most 1 " + lodUnit.section('^', 0, 0) + "), every move checked "
+		"against self-intersection. Removes the quarter-voxel shortfall of the smallest step and the "
+		"curvature term's inward pull. Default: on."));
+	par.addParam(RichFloat("ErrorTolerance", 0.0f, "Error tolerance (" + lodUnit.section('^', 0, 0) + ", 0 = off)",
+		"Beyond the paper: error-driven level of detail. Faces whose surface deviates from the threshold surface "
+		"by more than this are split; edges are collapsed where the new faces stay within half of it (few faces "
+		"on flat parts, more along edges and tight bends), keeping the mesh closed, 2-manifold, genus 0 and free "
+		"of self-intersections. E.g. 0.1 asks for at most a tenth of a " + lodUnit.section('^', 0, 0) +
+		" of error. 0 keeps the face-area level of detail only. Default: 0 (off)."));
 }
 
 void FilterGdmPlugin::initParameterSet(QAction *action, MeshDocument &md, RichParameterList &par)
@@ -272,6 +285,8 @@ bool FilterGdmPlugin::applyFilter(QAction *action, MeshDocument &md, const RichP
 			w.lod_face_area = par.getFloat("LevelOfDetail");
 			w.global_refinements = par.getInt("GlobalRefinements");
 			w.max_cycles = par.getInt("MaxCycles");
+			w.subvoxel_fit = par.getBool("SubvoxelFit");
+			w.lod_tolerance = par.getFloat("ErrorTolerance");
 			const gdm::Mesh mesh =
 				gdm_meshlab::shrink_wrap(gdm_meshlab::triangle_soup(current->cm), w, progress, &log);
 			flushLog();

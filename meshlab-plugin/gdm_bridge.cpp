@@ -37,8 +37,11 @@ gdm::DeformObserver observer_for(const Progress& progress, int from, int to, int
   };
 }
 
-gdm::DeformOptions deform_options(double a0, double a1, double a2, double lod, int refinements, int max_cycles) {
+gdm::DeformOptions deform_options(double a0, double a1, double a2, double lod, int refinements, int max_cycles,
+                                  bool subvoxel_fit, double lod_tolerance) {
   gdm::DeformOptions o;
+  o.subvoxel_fit = subvoxel_fit;
+  o.lod_tolerance = lod_tolerance;
   o.a0 = a0;
   o.a1 = a1;
   o.a2 = a2;
@@ -90,7 +93,8 @@ LoadedVolume load(const VolumeParams& v, LogLines* log) {
 
 gdm::DeformOptions volume_options(const VolumeParams& v, double threshold) {
   gdm::DeformOptions o =
-      deform_options(v.a0, v.a1, v.a2, v.lod_face_area, v.global_refinements, v.max_cycles);
+      deform_options(v.a0, v.a1, v.a2, v.lod_face_area, v.global_refinements, v.max_cycles, v.subvoxel_fit,
+                     v.lod_tolerance);
   o.threshold = threshold;
   o.polarity = v.object_darker ? gdm::Polarity::object_darker : gdm::Polarity::object_brighter;
   o.mode = v.shrink ? gdm::Mode::shrink : gdm::Mode::grow;
@@ -252,7 +256,8 @@ gdm::Mesh shrink_wrap(const std::vector<Triangle>& input, const WrapParams& w, c
   log->push_back("seed: geodesic sphere of radius " + fmt(radius) + " mm, " + std::to_string(mesh.n_faces()) +
                  " faces");
 
-  gdm::DeformOptions o = deform_options(w.a0, w.a1, w.a2, w.lod_face_area, w.global_refinements, w.max_cycles);
+  gdm::DeformOptions o = deform_options(w.a0, w.a1, w.a2, w.lod_face_area, w.global_refinements, w.max_cycles,
+                                        w.subvoxel_fit, w.lod_tolerance);
   o.mode = gdm::Mode::shrink;
   o.polarity = gdm::Polarity::object_darker;
   o.threshold = offset;

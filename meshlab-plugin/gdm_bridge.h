@@ -45,6 +45,8 @@ struct VolumeParams {
   double lod_face_area = 10.0;    // voxel^2
   int global_refinements = 1;
   int max_cycles = 2000;
+  bool subvoxel_fit = true;       // final fit onto the threshold crossing
+  double lod_tolerance = 0.0;     // error-driven level of detail, voxels; 0 = off
 };
 
 struct SeedParams {
@@ -67,6 +69,8 @@ struct WrapParams {
   double lod_face_area = 10.0;  // cell^2
   int global_refinements = 1;
   int max_cycles = 2000;
+  bool subvoxel_fit = true;     // final fit onto the offset surface
+  double lod_tolerance = 0.0;   // error-driven level of detail, cells; 0 = off
 };
 
 // Filter 3: a closed, genus-0, intersection-free wrap shrunk from a sphere

@@ -6,11 +6,13 @@
 #include <sstream>
 #include <vector>
 
+#include "gdm/error_lod.h"
 #include "gdm/errors.h"
 #include "gdm/intersection_guard.h"
 #include "gdm/parallel.h"
 #include "gdm/resampler.h"
 #include "gdm/seed.h"
+#include "gdm/surface_fit.h"
 
 namespace gdm {
 
@@ -77,6 +79,16 @@ void validate(const DeformOptions& o, const Volume& volume) {
   require(o.max_faces >= 20, "max_faces must be at least 20");
   require(!(o.max_topology_ratio <= 0.0), "max_topology_ratio must be > 0 (infinity turns the limit off)");
   require(!(o.refinement_travel <= 0.0), "refinement_travel must be > 0 (infinity turns the bound off)");
+  require(o.fit_passes >= 1 && o.fit_passes <= 20, "fit_passes must be in [1, 20], got " + num(o.fit_passes));
+  require(std::isfinite(o.fit_max_distance) && o.fit_max_distance > 0.0 && o.fit_max_distance <= 4.0,
+          "fit_max_distance must be in (0, 4] voxels, got " + num(o.fit_max_distance));
+  require(std::isfinite(o.lod_tolerance) && o.lod_tolerance >= 0.0 && o.lod_tolerance <= 10.0,
+          "lod_tolerance must be in [0, 10] voxels (0 = off), got " + num(o.lod_tolerance));
+  require(o.lod_tolerance == 0.0 || o.lod_tolerance >= 0.01,
+          "lod_tolerance must be at least 0.01 voxel (below, noise splits every face), got " + num(o.lod_tolerance));
+  require(std::isfinite(o.lod_min_angle) && o.lod_min_angle >= 0.0 && o.lod_min_angle < 60.0,
+          "lod_min_angle must be in [0, 60) degrees, got " + num(o.lod_min_angle));
+  require(o.lod_rounds >= 1 && o.lod_rounds <= 50, "lod_rounds must be in [1, 50], got " + num(o.lod_rounds));
 
   if (volume.voxel_count() == 0) throw InvalidVolume("the volume is empty");
   if (!(volume.max_value() > volume.min_value()))
@@ -123,6 +135,7 @@ class Deformer {
   bool converged(int cycle) const;
   void start_stage(int cycle);
   std::size_t count_border_vertices() const;
+  void finish(int cycle, DeformResult& result);
 
   Mesh& mesh_;
   const Volume& volume_;
@@ -385,6 +398,42 @@ std::size_t Deformer::count_border_vertices() const {
   return n;
 }
 
+// Beyond the paper: the final fit onto the threshold crossing, and the
+// error-driven level of detail (collapse where flat, split where the surface
+// leaves the faces, fit again).
+void Deformer::finish(int cycle, DeformResult& result) {
+  const bool lod = o_.lod_tolerance > 0.0;
+  if (!o_.subvoxel_fit && !lod) return;
+  FitOptions fit;
+  fit.passes = o_.fit_passes;
+  fit.max_distance = o_.fit_max_distance;
+  fit.search = std::max(1.5, o_.fit_max_distance + 0.5);
+  fit.normal_rings = o_.normal_rings;
+  fit.prevent_self_intersection = o_.prevent_self_intersection;
+  fit.threads = threads_;
+  std::vector<Vec3> origin;  // where the deformation left each vertex (new ones: where created)
+  if (o_.subvoxel_fit) result.fit_moves += fit_to_threshold(mesh_, volume_, o_.threshold, fit, origin).moves;
+  if (!lod) return;
+  const double tolerance = o_.lod_tolerance * voxel_;
+  CollapseOptions collapse;
+  collapse.tolerance = 0.5 * tolerance;  // hysteresis against the split criterion
+  collapse.search = std::max(1.5 * voxel_, 3.0 * tolerance);
+  collapse.min_angle = o_.lod_min_angle;
+  for (int round = 0; round < o_.lod_rounds; ++round) {
+    const std::size_t c = collapse_flat_edges(mesh_, &volume_, o_.threshold, collapse);
+    const std::size_t s = split_deviating_faces(mesh_, volume_, o_.threshold, tolerance, 0.5 * voxel_, cycle);
+    result.lod_collapses += c;
+    result.lod_splits += s;
+    result.fit_moves += fit_to_threshold(mesh_, volume_, o_.threshold, fit, origin).moves;
+    if (c + s == 0) break;
+  }
+  mesh_.garbage_collection();
+  mesh_.release_vertex_status();
+  mesh_.release_edge_status();
+  mesh_.release_halfedge_status();
+  mesh_.release_face_status();
+}
+
 DeformResult Deformer::run() {
   DeformResult result;
   generation_property(mesh_);
@@ -421,6 +470,7 @@ DeformResult Deformer::run() {
     last_change_.clear();
     start_stage(cycle);
   }
+  if (result.reason == StopReason::converged || result.reason == StopReason::max_cycles) finish(cycle, result);
   result.cycles = cycle;
   result.global_refinements = report_.stage;
   result.rejected_moves = rejected_earlier_stages_ + guard_->statistics().rejected_moves;

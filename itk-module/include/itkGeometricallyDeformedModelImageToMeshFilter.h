@@ -117,6 +117,18 @@ operator<<(std::ostream & os, const GeometricallyDeformedModelEnums::Polarity va
  * - ImproveTriangles [on] and FlipMaximumDihedralAngle [20 degrees, in [0, 90)]:
  *   Delaunay edge flips on nearly flat regions.
  * - MaximumNumberOfFaces [2000000, >= 20]: stop when the model grows past this.
+ * - SubvoxelFit [on]: after the last convergence, move every vertex along its
+ *   normal onto the threshold crossing of the trilinear field (beyond the
+ *   paper; removes the quarter-voxel shortfall and the curvature term's
+ *   inward bias). NumberOfFitPasses [4, in [1, 20]] least-squares sweeps;
+ *   FitMaximumDistance [1 voxel, in (0, 4]] bounds each vertex's move.
+ * - LevelOfDetailTolerance [0 = off, in [0.01, 10] voxels]: error-driven level
+ *   of detail after the fit: faces deviating from the threshold surface by
+ *   more than this are split, edges whose collapse keeps the new faces within
+ *   half of it are collapsed (closed, 2-manifold, genus 0 and
+ *   self-intersection free kept). LevelOfDetailMinimumAngle [15 degrees, in
+ *   [0, 60)] is the triangle-quality floor of collapses,
+ *   LevelOfDetailRounds [6, in [1, 50]] the collapse/split/fit rounds.
  * - NumberOfWorkUnits (from ProcessObject): worker threads; the result does not
  *   depend on it.
  *
@@ -272,6 +284,32 @@ public:
   itkGetConstMacro(ImproveTriangles, bool);
   itkBooleanMacro(ImproveTriangles);
 
+  /** Sub-voxel final fit onto the threshold crossing (beyond the paper). */
+  itkSetMacro(SubvoxelFit, bool);
+  itkGetConstMacro(SubvoxelFit, bool);
+  itkBooleanMacro(SubvoxelFit);
+
+  /** Least-squares sweeps of the sub-voxel fit, in [1, 20]. */
+  itkSetMacro(NumberOfFitPasses, unsigned int);
+  itkGetConstMacro(NumberOfFitPasses, unsigned int);
+
+  /** A vertex moves at most this far in the fit, voxels, in (0, 4]. */
+  itkSetMacro(FitMaximumDistance, double);
+  itkGetConstMacro(FitMaximumDistance, double);
+
+  /** Error-driven level of detail: largest deviation of a face from the
+   * threshold surface, voxels (smallest spacing), in [0.01, 10]; 0 = off. */
+  itkSetMacro(LevelOfDetailTolerance, double);
+  itkGetConstMacro(LevelOfDetailTolerance, double);
+
+  /** Smallest angle a collapse may create (or the smallest already there), degrees, in [0, 60). */
+  itkSetMacro(LevelOfDetailMinimumAngle, double);
+  itkGetConstMacro(LevelOfDetailMinimumAngle, double);
+
+  /** Collapse / split / fit rounds of the error-driven level of detail, in [1, 50]. */
+  itkSetMacro(LevelOfDetailRounds, unsigned int);
+  itkGetConstMacro(LevelOfDetailRounds, unsigned int);
+
   /** Only flip where the faces are this close to flat, degrees, in [0, 89.9]. */
   itkSetClampMacro(FlipMaximumDihedralAngle, double, 0.0, 89.9);
   itkGetConstMacro(FlipMaximumDihedralAngle, double);
@@ -339,6 +377,12 @@ private:
   bool          m_ImproveTriangles;
   double        m_FlipMaximumDihedralAngle;
   SizeValueType m_MaximumNumberOfFaces;
+  bool          m_SubvoxelFit;
+  unsigned int  m_NumberOfFitPasses;
+  double        m_FitMaximumDistance;
+  double        m_LevelOfDetailTolerance;
+  double        m_LevelOfDetailMinimumAngle;
+  unsigned int  m_LevelOfDetailRounds;
   PointType     m_SeedCenter;
   double        m_SeedRadius{ 0.0 };
   unsigned int  m_SeedSubdivisionLevel{ 1 };

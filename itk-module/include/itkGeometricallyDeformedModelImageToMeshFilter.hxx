@@ -50,6 +50,12 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::Geometric
   m_ImproveTriangles = defaults.improve_triangles;
   m_FlipMaximumDihedralAngle = defaults.flip_max_dihedral;
   m_MaximumNumberOfFaces = static_cast<SizeValueType>(defaults.max_faces);
+  m_SubvoxelFit = defaults.subvoxel_fit;
+  m_NumberOfFitPasses = static_cast<unsigned int>(defaults.fit_passes);
+  m_FitMaximumDistance = defaults.fit_max_distance;
+  m_LevelOfDetailTolerance = defaults.lod_tolerance;
+  m_LevelOfDetailMinimumAngle = defaults.lod_min_angle;
+  m_LevelOfDetailRounds = static_cast<unsigned int>(defaults.lod_rounds);
   m_SeedCenter.Fill(0.0);
 }
 
@@ -84,6 +90,12 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::GetDeform
   o.flip_max_dihedral = m_FlipMaximumDihedralAngle;
   o.threads = static_cast<int>(this->GetNumberOfWorkUnits());
   o.max_faces = static_cast<std::size_t>(m_MaximumNumberOfFaces);
+  o.subvoxel_fit = m_SubvoxelFit;
+  o.fit_passes = static_cast<int>(std::min<unsigned int>(m_NumberOfFitPasses, 1000000u));
+  o.fit_max_distance = m_FitMaximumDistance;
+  o.lod_tolerance = m_LevelOfDetailTolerance;
+  o.lod_min_angle = m_LevelOfDetailMinimumAngle;
+  o.lod_rounds = static_cast<int>(std::min<unsigned int>(m_LevelOfDetailRounds, 1000000u));
   return o;
 }
 
@@ -236,6 +248,12 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::PrintSelf
   os << indent << "ImproveTriangles: " << (m_ImproveTriangles ? "On" : "Off") << std::endl;
   os << indent << "FlipMaximumDihedralAngle: " << m_FlipMaximumDihedralAngle << std::endl;
   os << indent << "MaximumNumberOfFaces: " << m_MaximumNumberOfFaces << std::endl;
+  os << indent << "SubvoxelFit: " << (m_SubvoxelFit ? "On" : "Off") << std::endl;
+  os << indent << "NumberOfFitPasses: " << m_NumberOfFitPasses << std::endl;
+  os << indent << "FitMaximumDistance: " << m_FitMaximumDistance << std::endl;
+  os << indent << "LevelOfDetailTolerance: " << m_LevelOfDetailTolerance << std::endl;
+  os << indent << "LevelOfDetailMinimumAngle: " << m_LevelOfDetailMinimumAngle << std::endl;
+  os << indent << "LevelOfDetailRounds: " << m_LevelOfDetailRounds << std::endl;
   os << indent << "SeedCenter: " << m_SeedCenter << std::endl;
   os << indent << "SeedRadius: " << m_SeedRadius << std::endl;
   os << indent << "SeedSubdivisionLevel: " << m_SeedSubdivisionLevel << std::endl;

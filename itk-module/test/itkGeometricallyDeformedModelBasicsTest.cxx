@@ -107,6 +107,13 @@ ExerciseBasicsAndSetGet()
   ITK_TEST_SET_GET_VALUE(15.0, (filter->SetFlipMaximumDihedralAngle(15.0), filter->GetFlipMaximumDihedralAngle()));
   ITK_TEST_SET_GET_VALUE(20u, (filter->SetMaximumNumberOfFaces(3), filter->GetMaximumNumberOfFaces()));
   ITK_TEST_SET_GET_VALUE(5000u, (filter->SetMaximumNumberOfFaces(5000), filter->GetMaximumNumberOfFaces()));
+  ITK_TEST_SET_GET_BOOLEAN(filter, SubvoxelFit, true);
+  filter->SubvoxelFitOff();
+  ITK_TEST_SET_GET_VALUE(6u, (filter->SetNumberOfFitPasses(6), filter->GetNumberOfFitPasses()));
+  ITK_TEST_SET_GET_VALUE(0.75, (filter->SetFitMaximumDistance(0.75), filter->GetFitMaximumDistance()));
+  ITK_TEST_SET_GET_VALUE(0.1, (filter->SetLevelOfDetailTolerance(0.1), filter->GetLevelOfDetailTolerance()));
+  ITK_TEST_SET_GET_VALUE(12.0, (filter->SetLevelOfDetailMinimumAngle(12.0), filter->GetLevelOfDetailMinimumAngle()));
+  ITK_TEST_SET_GET_VALUE(3u, (filter->SetLevelOfDetailRounds(3), filter->GetLevelOfDetailRounds()));
   FilterType::PointType center;
   center[0] = 1.0;
   center[1] = -2.0;
@@ -129,7 +136,9 @@ ExerciseBasicsAndSetGet()
       o.normal_rings != 3 || o.optimizer.min_step != 0.5 || o.optimizer.max_step != 2.0 ||
       o.optimizer.max_step_reductions != 2 || o.optimizer.gradient_step != 0.2 || o.lod_face_area != 6.0 ||
       o.global_refinements != 0 || o.max_cycles != 300 || o.convergence_tolerance != 0.3 ||
-      o.convergence_window != 8 || o.flip_max_dihedral != 15.0 || o.max_faces != 5000 || o.threads != 2)
+      o.convergence_window != 8 || o.flip_max_dihedral != 15.0 || o.max_faces != 5000 || o.threads != 2 ||
+      o.subvoxel_fit || o.fit_passes != 6 || o.fit_max_distance != 0.75 || o.lod_tolerance != 0.1 ||
+      o.lod_min_angle != 12.0 || o.lod_rounds != 3)
   {
     std::cerr << "GetDeformOptions does not follow the parameters" << std::endl;
     return EXIT_FAILURE;
@@ -143,7 +152,9 @@ ExerciseBasicsAndSetGet()
          "IntensityScale", "Reach", "NormalRings", "LocalFlip", "MinimumStep", "MaximumStep", "MaximumStepReductions",
          "GradientStep", "LevelOfDetailFaceArea", "LevelOfDetailTopologyExtent", "NumberOfGlobalRefinements",
          "MaximumNumberOfCycles", "ConvergenceTolerance", "ConvergenceWindow", "PreventSelfIntersection",
-         "ImproveTriangles", "FlipMaximumDihedralAngle", "MaximumNumberOfFaces", "SeedCenter", "SeedRadius",
+         "ImproveTriangles", "FlipMaximumDihedralAngle", "MaximumNumberOfFaces", "SubvoxelFit", "NumberOfFitPasses",
+         "FitMaximumDistance", "LevelOfDetailTolerance", "LevelOfDetailMinimumAngle", "LevelOfDetailRounds",
+         "SeedCenter", "SeedRadius",
          "SeedSubdivisionLevel", "StopReason", "NumberOfCycles", "NumberOfGlobalRefinementsPerformed",
          "NumberOfRejectedMoves", "NumberOfFlips", "NumberOfBorderVertices" })
   {

@@ -41,6 +41,17 @@ struct DeformOptions {
   double flip_max_dihedral = 20.0;   // only flip where faces are this close to flat, degrees
   int threads = 0;                   // worker threads; 0 = all cores; results do not depend on it
   std::size_t max_faces = 2000000;   // stop when the model grows past this many faces
+
+  // Beyond the paper: the final fit and the error-driven level of detail, run
+  // once after the last convergence (see surface_fit.h and error_lod.h).
+  bool subvoxel_fit = true;          // move every vertex onto the threshold crossing of the trilinear field
+  int fit_passes = 4;                // sweeps of the fit (normals re-estimated each sweep)
+  double fit_max_distance = 1.0;     // a vertex moves at most this far in the fit, voxels (0, 4]
+  double lod_tolerance = 0.0;        // error-driven level of detail: largest deviation of a face from
+                                     // the threshold surface, voxels (smallest spacing); 0 = off. It
+                                     // fits the vertices it changes even when subvoxel_fit is off
+  double lod_min_angle = 15.0;       // collapses keep every new angle above this (or the old smallest), degrees
+  int lod_rounds = 6;                // collapse / split / fit rounds of the error-driven level of detail
 };
 
 // Called once per cycle.
@@ -68,6 +79,9 @@ struct DeformResult {
   std::size_t rejected_moves = 0; // moves vetoed by the self-intersection guard
   std::size_t flips = 0;          // edge flips performed
   std::size_t border_vertices = 0;  // vertices within one voxel of the volume's border (a leak)
+  std::size_t fit_moves = 0;      // vertex moves of the sub-voxel fit
+  std::size_t lod_splits = 0;     // edges split by the error-driven level of detail
+  std::size_t lod_collapses = 0;  // edges collapsed by the error-driven level of detail
 };
 
 // Checks the options against the volume; throws InvalidOption or InvalidVolume.

@@ -1,0 +1,80 @@
+// Error-driven level of detail (beyond the paper's face-area threshold,
+// section 4): faces are split where the threshold surface deviates from them
+// by more than a tolerance, and edges are collapsed where the surface is flat
+// enough that the coarser faces stay within it. Every collapse keeps the mesh
+// closed, 2-manifold and genus 0 (link condition), free of self-intersections
+// (exact predicates), without flipped faces and above a triangle-quality floor.
+#pragma once
+
+#include <cstddef>
+#include <unordered_map>
+#include <vector>
+
+#include "gdm/mesh.h"
+#include "gdm/volume.h"
+
+namespace gdm {
+
+// How far (mm) the threshold surface leaves the face: from seven points spread
+// over the face, each measured along the face normal to the crossing (searched
+// within search_mm), the larger of |mean signed distance| and a third of the
+// largest distance (robust to image noise, yet catching faces that straddle a
+// crease; see the source); infinity when a point finds no crossing.
+double face_deviation(const Mesh& mesh, Mesh::FaceHandle f, const Volume& volume, double threshold,
+                      double search_mm);
+
+// Splits the longest edge of every face that deviates by more than
+// `tolerance_mm` (faces with no crossing within reach are left alone) and
+// whose longest edge is longer than `min_edge_mm` (the new
+// vertex at the midpoint, with `generation`). The new triangles lie inside the
+// old ones, so no split creates an intersection. Returns the number of splits.
+std::size_t split_deviating_faces(Mesh& mesh, const Volume& volume, double threshold, double tolerance_mm,
+                                  double min_edge_mm, int generation);
+
+// True when collapsing h (its from-vertex removed, merged into its to-vertex)
+// keeps a closed 2-manifold of the same genus: OpenMesh's is_collapse_ok and
+// the link condition (the two vertices share exactly the two neighbours
+// opposite the edge, and those keep a valence of at least 3). Non-const only
+// because OpenMesh tags vertices in is_collapse_ok; the mesh is not changed.
+bool collapse_keeps_topology(Mesh& mesh, Mesh::HalfedgeHandle h);
+
+struct CollapseOptions {
+  double tolerance = 0.0;         // deviation allowed for the new faces, mm; <= 0: not checked
+  double search = 1.5;            // crossing search range for the deviation, mm
+  double min_angle = 15.0;        // quality floor: smallest angle of a new face, degrees (or the
+                                  // smallest angle already there, when lower)
+  double max_normal_change = 45.0;  // a new face turns at most this much from the old one, degrees
+};
+
+// Checks collapses geometrically against the whole mesh: a uniform grid over
+// face boxes limits the exact intersection tests to nearby faces.
+class CollapseChecker {
+ public:
+  CollapseChecker(const Mesh& mesh, double cell_size);
+  // Would collapsing h leave the faces around its from-vertex non-degenerate,
+  // unflipped, above the quality floor and free of improper intersections?
+  bool geometry_ok(Mesh::HalfedgeHandle h, const CollapseOptions& options);
+  // Registers the faces around v after a collapse into v.
+  void note_vertex(Mesh::VertexHandle v);
+
+ private:
+  void insert(int face);
+  template <class Visit>
+  void for_each_near(const Vec3& lo, const Vec3& hi, Visit&& visit);
+
+  const Mesh* mesh_;
+  double cell_;
+  std::unordered_map<long long, std::vector<int>> cells_;
+  std::vector<unsigned> stamp_;
+  unsigned current_ = 0;
+};
+
+// One pass of collapses, shortest edges first, each one checked by
+// collapse_keeps_topology, CollapseChecker::geometry_ok and, when
+// options.tolerance > 0, the deviation of the new faces from the threshold
+// surface. Needs the mesh's status attributes; deleted elements are left for
+// the caller's garbage_collection(). Returns the number of collapses.
+std::size_t collapse_flat_edges(Mesh& mesh, const Volume* volume, double threshold,
+                                const CollapseOptions& options);
+
+}  // namespace gdm

@@ -1,0 +1,55 @@
+// The sub-voxel final fit (beyond the paper): after the deformation has
+// converged, every vertex is moved along its smoothed normal onto the
+// threshold crossing of the trilinear field. The paper's optimiser stops up to
+// its smallest step (1/4 voxel, section 3.2) short of the boundary and its
+// curvature term (eq. 3) pulls convex parts inward; the fit removes both.
+#pragma once
+
+#include <cstddef>
+#include <optional>
+#include <vector>
+
+#include "gdm/mesh.h"
+#include "gdm/volume.h"
+
+namespace gdm {
+
+// The signed distance t (mm) along the unit direction `dir` from p to the
+// nearest point where the trilinear value crosses `threshold`, searched within
+// |t| <= max_mm in steps of step_mm on both sides and refined by regula falsi
+// (Illinois) inside the bracket: exact for a field that is linear along the
+// line. Empty when no crossing lies within reach inside the grid.
+std::optional<double> find_crossing(const Volume& volume, double threshold, const Vec3& p, const Vec3& dir,
+                                    double max_mm, double step_mm);
+
+struct FitOptions {
+  int passes = 4;               // sweeps over the vertices (normals re-estimated each sweep)
+  double max_distance = 1.0;    // a vertex ends at most this far from where the fit found it, voxels
+  double search = 1.5;          // crossings are searched this far along the normal, voxels
+  int normal_rings = 2;         // rings of faces averaged into the fit direction (section 7)
+  bool prevent_self_intersection = true;  // every move checked by the IntersectionGuard
+  int threads = 0;              // workers for the offsets (0 = all cores); the result does not depend on it
+};
+
+struct FitResult {
+  std::size_t moves = 0;      // accepted vertex moves, all passes together
+  std::size_t rejected = 0;   // moves vetoed by the self-intersection guard
+  double last_pass_rms = 0.0; // RMS of the (averaged) per-vertex offsets of the last pass, mm
+};
+
+// Moves each vertex along its smoothed normal so that the surface around it
+// lies on the threshold crossings on average: per pass, each vertex's offset
+// is the mean signed distance to the crossing from its samples (itself, its
+// faces' centroids, its edges' midpoints), weighted by how much each moves
+// with the vertex; offsets are averaged once with the 1-ring's (noise), then
+// applied in vertex order, each move checked by the IntersectionGuard (a
+// refused move is retried at half and a quarter length) and kept inside the
+// grid. At the fixed point flat faces sit across a curved surface instead of
+// inside it (no chord bias) and the curvature term's inward pull is gone.
+// `origin` (indexed by vertex handle; extended with the current positions of
+// vertices it does not cover) anchors the max_distance bound: pass an empty
+// vector to anchor at the current positions.
+FitResult fit_to_threshold(Mesh& mesh, const Volume& volume, double threshold, const FitOptions& options,
+                           std::vector<Vec3>& origin);
+
+}  // namespace gdm

@@ -1,0 +1,271 @@
+#include "gdm/error_lod.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+#include "gdm/predicates.h"
+#include "gdm/surface_fit.h"
+
+namespace gdm {
+
+namespace {
+
+Vec3 pos(const Mesh& mesh, Mesh::VertexHandle v) { return to_eigen(mesh.point(v)); }
+
+// How far the threshold surface leaves the triangle abc, from seven points
+// spread over it (centroid, edge midpoints, and half-way from the centroid to
+// each corner), each measured along the triangle's normal to the crossing.
+// The mean signed distance keeps what is systematic (a curved surface lies
+// on one side of a flat face) and averages the image noise that would make a
+// largest-distance criterion split everywhere; the largest distance catches
+// a face straddling a crease or a thin part, where signed distances cancel.
+// Both infinite when a point finds no crossing.
+struct Deviation {
+  double mean = 0.0;     // |mean signed distance|, mm
+  double largest = 0.0;  // largest |distance|, mm
+  // The deviation compared with a tolerance: the mean, or a third of the
+  // largest distance (which noise alone rarely reaches).
+  double value() const { return std::max(mean, largest / 3.0); }
+};
+
+Deviation triangle_deviation(const Vec3& a, const Vec3& b, const Vec3& c, const Volume& volume, double threshold,
+                             double search_mm) {
+  const double inf = std::numeric_limits<double>::infinity();
+  const Vec3 n = (b - a).cross(c - a);
+  const double len = n.norm();
+  if (!(len > 0.0)) return {inf, inf};
+  const Vec3 u = n / len;
+  const double step = std::min(0.25 * volume.voxel_size(), search_mm);
+  const Vec3 g = (a + b + c) / 3.0;
+  double sum = 0.0, largest = 0.0;
+  int count = 0;
+  for (const Vec3& s : {g, Vec3(0.5 * (a + b)), Vec3(0.5 * (b + c)), Vec3(0.5 * (c + a)), Vec3(0.5 * (g + a)),
+                        Vec3(0.5 * (g + b)), Vec3(0.5 * (g + c))}) {
+    const auto d = find_crossing(volume, threshold, s, u, search_mm, step);
+    if (!d) return {inf, inf};
+    sum += *d;
+    largest = std::max(largest, std::abs(*d));
+    ++count;
+  }
+  return {std::abs(sum / count), largest};
+}
+
+double smallest_angle(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const auto angle = [](const Vec3& apex, const Vec3& p, const Vec3& q) {
+    const Vec3 u = p - apex, w = q - apex;
+    return std::atan2(u.cross(w).norm(), u.dot(w));
+  };
+  return std::min({angle(a, b, c), angle(b, c, a), angle(c, a, b)}) * 180.0 / M_PI;
+}
+
+struct Tri {
+  std::array<Vec3, 3> p;
+  std::array<int, 3> id;
+};
+
+// Face f with vertex `from` replaced by `to` (at `to_pos`).
+Tri face_tri(const Mesh& mesh, Mesh::FaceHandle f, int from = -1, int to = -1, const Vec3& to_pos = Vec3::Zero()) {
+  Tri t;
+  int i = 0;
+  for (auto v : mesh.fv_range(f)) {
+    const bool replaced = v.idx() == from;
+    t.id[i] = replaced ? to : v.idx();
+    t.p[i] = replaced ? to_pos : pos(mesh, v);
+    ++i;
+  }
+  return t;
+}
+
+}  // namespace
+
+double face_deviation(const Mesh& mesh, Mesh::FaceHandle f, const Volume& volume, double threshold,
+                      double search_mm) {
+  auto it = mesh.cfv_iter(f);
+  const Vec3 a = pos(mesh, *it), b = pos(mesh, *++it), c = pos(mesh, *++it);
+  return triangle_deviation(a, b, c, volume, threshold, search_mm).value();
+}
+
+std::size_t split_deviating_faces(Mesh& mesh, const Volume& volume, double threshold, double tolerance_mm,
+                                  double min_edge_mm, int generation) {
+  const auto gen = generation_property(mesh);
+  const double search = std::max(3.0 * tolerance_mm, 1.5 * volume.voxel_size());
+  std::vector<char> marked(mesh.n_edges(), 0);
+  std::vector<std::pair<Mesh::VertexHandle, Mesh::VertexHandle>> to_split;
+  for (auto f : mesh.faces()) {
+    Mesh::HalfedgeHandle longest;
+    double best = -1.0;
+    for (auto h : mesh.fh_range(f)) {
+      const double len = (pos(mesh, mesh.to_vertex_handle(h)) - pos(mesh, mesh.from_vertex_handle(h))).norm();
+      if (len > best) {
+        best = len;
+        longest = h;
+      }
+    }
+    if (best <= min_edge_mm) continue;
+    const auto e = mesh.edge_handle(longest);
+    if (marked[e.idx()]) continue;
+    // A face with no crossing within reach is not near the surface (a part
+    // the deformation did not reach): not the level of detail's business.
+    const double deviation = face_deviation(mesh, f, volume, threshold, search);
+    if (deviation <= tolerance_mm || !std::isfinite(deviation)) continue;
+    marked[e.idx()] = 1;
+    to_split.emplace_back(mesh.from_vertex_handle(longest), mesh.to_vertex_handle(longest));
+  }
+  for (const auto& [a, b] : to_split) {
+    const auto h = mesh.find_halfedge(a, b);
+    if (!h.is_valid()) continue;
+    const auto mid = mesh.add_vertex(to_point(0.5 * (pos(mesh, a) + pos(mesh, b))));
+    mesh.property(gen, mid) = generation;
+    mesh.split(mesh.edge_handle(h), mid);
+  }
+  return to_split.size();
+}
+
+bool collapse_keeps_topology(Mesh& mesh, Mesh::HalfedgeHandle h) {
+  if (mesh.is_boundary(mesh.edge_handle(h)) || !mesh.is_collapse_ok(h)) return false;
+  const auto v0 = mesh.from_vertex_handle(h), v1 = mesh.to_vertex_handle(h);
+  const auto a = mesh.to_vertex_handle(mesh.next_halfedge_handle(h));
+  const auto b = mesh.to_vertex_handle(mesh.next_halfedge_handle(mesh.opposite_halfedge_handle(h)));
+  if (a == b) return false;
+  // Link condition: link(v0) ∩ link(v1) = link(edge) = {a, b}.
+  std::vector<int> n0;
+  for (auto w : mesh.vv_range(v0)) n0.push_back(w.idx());
+  int shared = 0;
+  for (auto w : mesh.vv_range(v1))
+    if (std::find(n0.begin(), n0.end(), w.idx()) != n0.end()) {
+      if (w != a && w != b) return false;
+      ++shared;
+    }
+  if (shared != 2) return false;
+  // a and b each lose an edge; the merged vertex has val(v0) + val(v1) - 4.
+  return mesh.valence(a) > 3 && mesh.valence(b) > 3 && mesh.valence(v0) + mesh.valence(v1) >= 7;
+}
+
+CollapseChecker::CollapseChecker(const Mesh& mesh, double cell_size) : mesh_(&mesh), cell_(cell_size) {
+  for (auto f : mesh.faces()) insert(f.idx());
+}
+
+void CollapseChecker::insert(int face) {
+  const Tri t = face_tri(*mesh_, Mesh::FaceHandle(face));
+  const Vec3 lo = t.p[0].cwiseMin(t.p[1]).cwiseMin(t.p[2]), hi = t.p[0].cwiseMax(t.p[1]).cwiseMax(t.p[2]);
+  const auto cell = [&](double x) { return static_cast<long long>(std::floor(x / cell_)); };
+  for (long long x = cell(lo.x()); x <= cell(hi.x()); ++x)
+    for (long long y = cell(lo.y()); y <= cell(hi.y()); ++y)
+      for (long long z = cell(lo.z()); z <= cell(hi.z()); ++z)
+        cells_[(x * 73856093LL) ^ (y * 19349663LL) ^ (z * 83492791LL)].push_back(face);
+}
+
+template <class Visit>
+void CollapseChecker::for_each_near(const Vec3& lo, const Vec3& hi, Visit&& visit) {
+  if (stamp_.size() < mesh_->n_faces()) stamp_.resize(mesh_->n_faces(), 0);
+  if (++current_ == 0) {
+    std::fill(stamp_.begin(), stamp_.end(), 0);
+    current_ = 1;
+  }
+  const auto cell = [&](double x) { return static_cast<long long>(std::floor(x / cell_)); };
+  for (long long x = cell(lo.x()); x <= cell(hi.x()); ++x)
+    for (long long y = cell(lo.y()); y <= cell(hi.y()); ++y)
+      for (long long z = cell(lo.z()); z <= cell(hi.z()); ++z) {
+        const auto it = cells_.find((x * 73856093LL) ^ (y * 19349663LL) ^ (z * 83492791LL));
+        if (it == cells_.end()) continue;
+        for (int f : it->second) {
+          if (stamp_[f] == current_) continue;
+          stamp_[f] = current_;
+          visit(f);
+        }
+      }
+}
+
+void CollapseChecker::note_vertex(Mesh::VertexHandle v) {
+  for (auto f : mesh_->vf_range(v)) insert(f.idx());
+}
+
+bool CollapseChecker::geometry_ok(Mesh::HalfedgeHandle h, const CollapseOptions& o) {
+  const Mesh& mesh = *mesh_;
+  const auto v0 = mesh.from_vertex_handle(h), v1 = mesh.to_vertex_handle(h);
+  const Vec3 p1 = pos(mesh, v1);
+  const auto gone0 = mesh.face_handle(h), gone1 = mesh.face_handle(mesh.opposite_halfedge_handle(h));
+  const double min_cos = std::cos(o.max_normal_change * M_PI / 180.0);
+  std::vector<Tri> created;
+  for (auto f : mesh.vf_range(v0)) {
+    if (f == gone0 || f == gone1) continue;
+    const Tri before = face_tri(mesh, f);
+    const Tri after = face_tri(mesh, f, v0.idx(), v1.idx(), p1);
+    const Vec3 nb = (before.p[1] - before.p[0]).cross(before.p[2] - before.p[0]);
+    const Vec3 na = (after.p[1] - after.p[0]).cross(after.p[2] - after.p[0]);
+    if (is_degenerate_triangle(after.p[0], after.p[1], after.p[2])) return false;
+    if (!(nb.norm() > 0.0) || na.normalized().dot(nb.normalized()) < min_cos) return false;
+    // Quality floor: no new angle below min_angle, or below the face's own
+    // smallest angle when that was already lower (never worse).
+    const double floor_angle = std::min(o.min_angle, smallest_angle(before.p[0], before.p[1], before.p[2]));
+    if (smallest_angle(after.p[0], after.p[1], after.p[2]) < floor_angle) return false;
+    created.push_back(after);
+  }
+  for (const Tri& t : created) {
+    const Vec3 lo = t.p[0].cwiseMin(t.p[1]).cwiseMin(t.p[2]), hi = t.p[0].cwiseMax(t.p[1]).cwiseMax(t.p[2]);
+    bool clear = true;
+    for_each_near(lo, hi, [&](int g) {
+      const Mesh::FaceHandle fg(g);
+      if (!clear || (mesh.has_face_status() && mesh.status(fg).deleted()) || fg == gone0 || fg == gone1) return;
+      const Tri other = face_tri(mesh, fg, v0.idx(), v1.idx(), p1);
+      if (other.id == t.id) return;  // the triangle itself
+      const Vec3 olo = other.p[0].cwiseMin(other.p[1]).cwiseMin(other.p[2]);
+      const Vec3 ohi = other.p[0].cwiseMax(other.p[1]).cwiseMax(other.p[2]);
+      if ((olo.array() > hi.array()).any() || (ohi.array() < lo.array()).any()) return;
+      if (triangles_intersect_improperly(t.p, t.id, other.p, other.id)) clear = false;
+    });
+    if (!clear) return false;
+  }
+  return true;
+}
+
+std::size_t collapse_flat_edges(Mesh& mesh, const Volume* volume, double threshold, const CollapseOptions& o) {
+  mesh.request_vertex_status();
+  mesh.request_edge_status();
+  mesh.request_halfedge_status();
+  mesh.request_face_status();
+  std::vector<std::pair<double, int>> order;
+  double sum = 0.0;
+  for (auto e : mesh.edges()) {
+    const double len = mesh.calc_edge_length(e);
+    sum += len;
+    order.emplace_back(len, e.idx());
+  }
+  if (order.empty()) return 0;
+  std::sort(order.begin(), order.end());
+  CollapseChecker checker(mesh, 2.0 * sum / static_cast<double>(order.size()));
+  std::size_t collapses = 0;
+  for (const auto& [len, ei] : order) {
+    const Mesh::EdgeHandle e(ei);
+    if (mesh.status(e).deleted()) continue;
+    for (int side = 0; side < 2; ++side) {
+      const auto h = mesh.halfedge_handle(e, side);
+      if (!collapse_keeps_topology(mesh, h)) continue;
+      if (!checker.geometry_ok(h, o)) continue;
+      if (volume && o.tolerance > 0.0) {
+        const auto v0 = mesh.from_vertex_handle(h), v1 = mesh.to_vertex_handle(h);
+        const auto gone0 = mesh.face_handle(h), gone1 = mesh.face_handle(mesh.opposite_halfedge_handle(h));
+        bool within = true;
+        for (auto f : mesh.vf_range(v0)) {
+          if (f == gone0 || f == gone1) continue;
+          const Tri t = face_tri(mesh, f, v0.idx(), v1.idx(), pos(mesh, v1));
+          if (triangle_deviation(t.p[0], t.p[1], t.p[2], *volume, threshold, o.search).value() > o.tolerance) {
+            within = false;
+            break;
+          }
+        }
+        if (!within) continue;
+      }
+      const auto kept = mesh.to_vertex_handle(h);
+      mesh.collapse(h);
+      checker.note_vertex(kept);
+      ++collapses;
+      break;
+    }
+  }
+  return collapses;
+}
+
+}  // namespace gdm

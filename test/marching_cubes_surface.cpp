@@ -1,0 +1,154 @@
+#include "marching_cubes_surface.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+
+namespace gdm::test {
+
+namespace {
+
+// Closest point on triangle abc to p (the Voronoi-region walk of Ericson,
+// Real-Time Collision Detection, section 5.1.5).
+Vec3 closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0.0 && d2 <= 0.0) return a;
+  const Vec3 bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0.0 && d4 <= d3) return b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) return a + ab * (d1 / (d1 - d3));
+  const Vec3 cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0.0 && d5 <= d6) return c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return a + ac * (d2 / (d2 - d6));
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0) return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+  const double denom = 1.0 / (va + vb + vc);
+  return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
+}  // namespace
+
+std::vector<Triangle> marching_cubes(const Volume& volume, double threshold) {
+  static const int edge_corner[12][2] = {{0, 1}, {2, 3}, {4, 5}, {6, 7}, {0, 2}, {1, 3},
+                                         {4, 6}, {5, 7}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
+  static const int face_corner[6][4] = {{0, 1, 3, 2}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                                        {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 3, 7, 5}};
+  int edge_of[8][8];
+  for (int e = 0; e < 12; ++e) {
+    edge_of[edge_corner[e][0]][edge_corner[e][1]] = e;
+    edge_of[edge_corner[e][1]][edge_corner[e][0]] = e;
+  }
+  std::vector<Triangle> out;
+  const auto& d = volume.dims();
+  for (int z = 0; z + 1 < d[2]; ++z)
+    for (int y = 0; y + 1 < d[1]; ++y)
+      for (int x = 0; x + 1 < d[0]; ++x) {
+        double value[8];
+        bool in[8];
+        int count = 0;
+        for (int c = 0; c < 8; ++c) {
+          value[c] = volume.at(x + (c & 1), y + ((c >> 1) & 1), z + ((c >> 2) & 1));
+          in[c] = value[c] >= threshold;
+          count += in[c];
+        }
+        if (count == 0 || count == 8) continue;
+        // Segments on the cube faces join crossed edges; each crossed edge
+        // has two neighbours, and the loops are the cell's polygons.
+        int nb[12][2], deg[12] = {0};
+        const auto join = [&](int a, int b) {
+          nb[a][deg[a]++] = b;
+          nb[b][deg[b]++] = a;
+        };
+        for (const auto& f : face_corner) {
+          int es[4], n = 0;
+          for (int k = 0; k < 4; ++k) {
+            const int e = edge_of[f[k]][f[(k + 1) % 4]];
+            if (in[edge_corner[e][0]] != in[edge_corner[e][1]]) es[n++] = e;
+          }
+          if (n == 2) {
+            join(es[0], es[1]);
+          } else if (n == 4) {
+            for (int k = 0; k < 4; ++k)
+              if (in[f[k]]) join(edge_of[f[(k + 3) % 4]][f[k]], edge_of[f[k]][f[(k + 1) % 4]]);
+          }
+        }
+        Vec3 point[12];
+        for (int e = 0; e < 12; ++e) {
+          if (deg[e] == 0) continue;
+          const int a = edge_corner[e][0], b = edge_corner[e][1];
+          const double t = (threshold - value[a]) / (value[b] - value[a]);
+          const Vec3 ia(x + (a & 1), y + ((a >> 1) & 1), z + ((a >> 2) & 1));
+          const Vec3 ib(x + (b & 1), y + ((b >> 1) & 1), z + ((b >> 2) & 1));
+          point[e] = volume.to_physical(ia + t * (ib - ia));
+        }
+        bool used[12] = {false};
+        for (int start = 0; start < 12; ++start) {
+          if (deg[start] != 2 || used[start]) continue;
+          std::vector<int> loop{start};
+          used[start] = true;
+          int prev = -1, cur = start;
+          while (true) {
+            const int next = nb[cur][0] != prev ? nb[cur][0] : nb[cur][1];
+            if (next == start || used[next]) break;
+            loop.push_back(next);
+            used[next] = true;
+            prev = cur;
+            cur = next;
+          }
+          for (std::size_t k = 1; k + 1 < loop.size(); ++k)
+            out.push_back({point[loop[0]], point[loop[k]], point[loop[k + 1]]});
+        }
+      }
+  return out;
+}
+
+TriangleDistance::TriangleDistance(std::vector<Triangle> triangles, double cell)
+    : triangles_(std::move(triangles)), cell_(cell) {
+  for (std::size_t t = 0; t < triangles_.size(); ++t) {
+    Vec3 lo = triangles_[t][0], hi = lo;
+    for (const auto& v : triangles_[t]) {
+      lo = lo.cwiseMin(v);
+      hi = hi.cwiseMax(v);
+    }
+    const auto l = key(lo), h = key(hi);
+    for (long i = l[0]; i <= h[0]; ++i)
+      for (long j = l[1]; j <= h[1]; ++j)
+        for (long k = l[2]; k <= h[2]; ++k) grid_[hash(i, j, k)].push_back(static_cast<int>(t));
+  }
+}
+
+std::array<long, 3> TriangleDistance::key(const Vec3& p) const {
+  return {static_cast<long>(std::floor(p.x() / cell_)), static_cast<long>(std::floor(p.y() / cell_)),
+          static_cast<long>(std::floor(p.z() / cell_))};
+}
+
+long long TriangleDistance::hash(long i, long j, long k) {
+  return (static_cast<long long>(i) + 1048576) + 2097152LL * ((j + 1048576) + 2097152LL * (k + 1048576));
+}
+
+double TriangleDistance::operator()(const Vec3& p) const {
+  const auto c = key(p);
+  double best = std::numeric_limits<double>::infinity();
+  for (long ring = 0; ring < 256; ++ring) {
+    for (long i = c[0] - ring; i <= c[0] + ring; ++i)
+      for (long j = c[1] - ring; j <= c[1] + ring; ++j)
+        for (long k = c[2] - ring; k <= c[2] + ring; ++k) {
+          if (std::max({std::labs(i - c[0]), std::labs(j - c[1]), std::labs(k - c[2])}) != ring) continue;
+          const auto found = grid_.find(hash(i, j, k));
+          if (found == grid_.end()) continue;
+          for (int t : found->second) {
+            const auto& tri = triangles_[t];
+            best = std::min(best, (closest_on_triangle(p, tri[0], tri[1], tri[2]) - p).norm());
+          }
+        }
+    if (best <= static_cast<double>(ring) * cell_) break;
+  }
+  return best;
+}
+
+}  // namespace gdm::test
