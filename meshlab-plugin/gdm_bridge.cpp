@@ -51,13 +51,13 @@ gdm::DeformOptions deform_options(double a0, double a1, double a2, double lod, i
   return o;
 }
 
-// Compacts the model, moves it onto float-representable points (MeshLab
-// stores float coordinates; see gdm/float_snap.h) and logs the outcome.
+// Compacts the model and logs the outcome. gdm::deform ends with the model on
+// float-representable points (float_exact_output): MeshLab's float
+// coordinates keep the no-intersection guarantee.
 void finish_model(const gdm::DeformResult& r, gdm::Mesh& mesh, LogLines* log) {
   mesh.garbage_collection();
-  const gdm::FloatSnapResult snap = gdm::snap_to_float(mesh);
-  if (snap.refused > 0)
-    log->push_back("warning: " + std::to_string(snap.refused) +
+  if (r.float_refused > 0)
+    log->push_back("warning: " + std::to_string(r.float_refused) +
                    " vertices could not be moved to float precision without a self-intersection");
   log->push_back("deformation " + gdm::to_string(r.reason) + " after " + std::to_string(r.cycles) + " cycles (" +
                  std::to_string(r.global_refinements) + " global refinements, " + std::to_string(r.rejected_moves) +
@@ -270,7 +270,7 @@ gdm::Mesh shrink_wrap(const std::vector<Triangle>& input, const WrapParams& w, c
   const gdm::MeshReport report = gdm::measure(mesh);
   if (!report.closed || !report.two_manifold || report.genus != 0 || report.self_intersections != 0)
     throw gdm::Error("the wrap failed its checks (" + gdm::to_string(report) + ")");
-  // finish_model put the wrap on float points: MeshLab's rounding changes nothing. Check it.
+  // The wrap is on float points: MeshLab's rounding changes nothing. Check it.
   {
     gdm::Mesh rounded = mesh;
     for (auto v : rounded.vertices())

@@ -6,6 +6,7 @@
 
 #include "gdm/deformer.h"
 #include "gdm/errors.h"
+#include "gdm/float_snap.h"
 #include "gdm/mesh_checks.h"
 #include "gdm/phantoms.h"
 #include "gdm/seed.h"
@@ -193,4 +194,23 @@ TEST(Deformer, stays_inside_the_volume_and_reports_the_leak) {
   for (auto v : m.vertices()) EXPECT_TRUE(volume.contains(to_eigen(m.point(v))));
   EXPECT_TRUE(is_closed(m));
   EXPECT_EQ(self_intersecting_pairs(m), 0u);
+}
+
+TEST(Deformer, models_end_on_float_points_unless_asked_not_to) {
+  // Far from the origin, as scanner coordinates are: float spacing there is
+  // about 1e-5 mm, coarse enough to matter between close sheets.
+  ph::Grid grid;
+  grid.dims = {40, 40, 40};
+  grid.origin = Vec3(-312.4, 187.9, 1021.3);
+  const Vec3 c = grid.center();
+  const Volume volume = ph::voxelize(grid, ph::sphere(c, 12.0));
+  for (bool snap : {true, false}) {
+    Mesh m = make_icosahedron(c, 3.0);
+    DeformOptions o = options();
+    o.float_exact_output = snap;
+    const DeformResult r = deform(m, volume, o);
+    EXPECT_EQ(is_float_exact(m), snap);
+    EXPECT_EQ(r.float_refused, 0u);
+    EXPECT_EQ(self_intersecting_pairs(m), 0u);
+  }
 }

@@ -8,6 +8,7 @@
 
 #include "gdm/error_lod.h"
 #include "gdm/errors.h"
+#include "gdm/float_snap.h"
 #include "gdm/intersection_guard.h"
 #include "gdm/parallel.h"
 #include "gdm/resampler.h"
@@ -471,6 +472,7 @@ DeformResult Deformer::run() {
     start_stage(cycle);
   }
   if (result.reason == StopReason::converged || result.reason == StopReason::max_cycles) finish(cycle, result);
+  if (o_.float_exact_output && result.reason != StopReason::cancelled) result.float_refused = snap_to_float(mesh_).refused;
   result.cycles = cycle;
   result.global_refinements = report_.stage;
   result.rejected_moves = rejected_earlier_stages_ + guard_->statistics().rejected_moves;

@@ -52,6 +52,9 @@ struct DeformOptions {
                                      // fits the vertices it changes even when subvoxel_fit is off
   double lod_min_angle = 15.0;       // collapses keep every new angle above this (or the old smallest), degrees
   int lod_rounds = 6;                // collapse / split / fit rounds of the error-driven level of detail
+  bool float_exact_output = true;    // end with every vertex on a float-representable point, each move
+                                     // checked by the guard (float_snap.h): float outputs (STL, MeshLab,
+                                     // itk::Mesh<float>) keep the no-self-intersection guarantee
 };
 
 // Called once per cycle.
@@ -82,6 +85,7 @@ struct DeformResult {
   std::size_t fit_moves = 0;      // vertex moves of the sub-voxel fit
   std::size_t lod_splits = 0;     // edges split by the error-driven level of detail
   std::size_t lod_collapses = 0;  // edges collapsed by the error-driven level of detail
+  std::size_t float_refused = 0;  // vertices float_exact_output could not move safely (0 in practice)
 };
 
 // Checks the options against the volume; throws InvalidOption or InvalidVolume.
