@@ -161,6 +161,10 @@ void FilterGdmPlugin::addWeightParameters(RichParameterList &par, const QString 
 		"(section 6, 0 to 4)."));
 	par.addParam(RichInt("MaxCycles", 2000, "Maximum cycles",
 		"Hard limit on the number of deformation cycles, all refinements together."));
+}
+
+void FilterGdmPlugin::addAccuracyParameters(RichParameterList &par, const QString &lodUnit)
+{
 	par.addParam(RichBool("SubvoxelFit", true, "Sub-voxel final fit",
 		"Beyond the paper: after the last convergence every vertex moves along its normal onto the threshold "
 		"crossing of the trilinear field (at most 1 " + lodUnit.section('^', 0, 0) + "), every move checked "
@@ -197,6 +201,7 @@ void FilterGdmPlugin::initParameters(QAction *action, const MeshModel *m, RichPa
 		par.addParam(RichFloat("SeedRadius", 3.0f, "Seed radius (mm)",
 			"Radius of the seed icosahedron (mm). The seed must touch the object's side of the threshold."));
 		addWeightParameters(par, "voxel^2");
+		addAccuracyParameters(par, "voxel^2");
 		break;
 	case FP_GDM_DEFORM_MESH:
 		addVolumeParameters(par);
@@ -206,6 +211,7 @@ void FilterGdmPlugin::initParameters(QAction *action, const MeshModel *m, RichPa
 		par.addParam(RichBool("NewLayer", true, "Add the result as a new layer",
 			"Keep the current layer and add the deformed model as a new layer; otherwise replace the current layer."));
 		addWeightParameters(par, "voxel^2");
+		addAccuracyParameters(par, "voxel^2");
 		break;
 	case FP_GDM_SHRINK_WRAP: {
 		const float diag = m != nullptr && m->cm.bbox.IsNull() == false ? m->cm.bbox.Diag() : 1.0f;
@@ -213,7 +219,8 @@ void FilterGdmPlugin::initParameters(QAction *action, const MeshModel *m, RichPa
 			"Size of the cells of the grid on which the distance to the mesh is sampled. The level of detail is "
 			"measured in these cells. Default: 1% of the bounding box diagonal."));
 		par.addParam(RichAbsPerc("Tolerance", diag / 50.0f, 0.0f, diag / 5.0f, "Tolerance",
-			"Largest distance of the input from the wrap: the wrap settles at half this distance outside the "
+			"Largest distance of the input from the wrap: the wrap settles at a third of this distance outside "
+			"the input (so that concave creases down to about 40 degrees stay within it) and never crosses the "
 			"input. At least the cell size. Default: 2% of the bounding box diagonal."));
 		addWeightParameters(par, "cell^2");
 		break;
@@ -285,8 +292,6 @@ bool FilterGdmPlugin::applyFilter(QAction *action, MeshDocument &md, const RichP
 			w.lod_face_area = par.getFloat("LevelOfDetail");
 			w.global_refinements = par.getInt("GlobalRefinements");
 			w.max_cycles = par.getInt("MaxCycles");
-			w.subvoxel_fit = par.getBool("SubvoxelFit");
-			w.lod_tolerance = par.getFloat("ErrorTolerance");
 			const gdm::Mesh mesh =
 				gdm_meshlab::shrink_wrap(gdm_meshlab::triangle_soup(current->cm), w, progress, &log);
 			flushLog();

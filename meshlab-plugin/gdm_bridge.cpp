@@ -228,9 +228,11 @@ gdm::Mesh shrink_wrap(const std::vector<Triangle>& input, const WrapParams& w, c
       hi = hi.cwiseMax(p);
     }
   if (input.empty()) throw gdm::InvalidOption("the current layer is empty: nothing to wrap");
-  // The wrap settles where the distance to the input is half the tolerance:
-  // room for the grid's interpolation error and for bridged holes.
-  const double offset = 0.5 * w.tolerance;
+  // The wrap settles where the distance to the input is a third of the
+  // tolerance: in a concave crease of angle theta the offset surface's corner
+  // lies offset / sin(theta / 2) from the crease, so creases down to about
+  // 40 degrees stay within the tolerance.
+  const double offset = w.tolerance / 3.0;
   const gdm::Vec3 centre = 0.5 * (lo + hi);
   const double radius = 0.5 * (hi - lo).norm() + offset + 2.0 * w.cell_size;
   WrapFieldOptions fo;
@@ -257,10 +259,13 @@ gdm::Mesh shrink_wrap(const std::vector<Triangle>& input, const WrapParams& w, c
                  " faces");
 
   gdm::DeformOptions o = deform_options(w.a0, w.a1, w.a2, w.lod_face_area, w.global_refinements, w.max_cycles,
-                                        w.subvoxel_fit, w.lod_tolerance);
+                                        false, 0.0);
   o.mode = gdm::Mode::shrink;
   o.polarity = gdm::Polarity::object_darker;
   o.threshold = offset;
+  // The fit and the error-driven level of detail do not check obstacles (off above).
+  const gdm::Obstacle obstacle(input);
+  o.obstacle = &obstacle;
   const auto result =
       gdm::deform(mesh, field, o, observer_for(progress, 20, 95, w.global_refinements + 1, "Shrinking the wrap"));
   if (result.reason == gdm::StopReason::cancelled) throw gdm::Error("cancelled");

@@ -69,12 +69,12 @@ struct WrapParams {
   double lod_face_area = 10.0;  // cell^2
   int global_refinements = 1;
   int max_cycles = 2000;
-  bool subvoxel_fit = true;     // final fit onto the offset surface
-  double lod_tolerance = 0.0;   // error-driven level of detail, cells; 0 = off
 };
 
 // Filter 3: a closed, genus-0, intersection-free wrap shrunk from a sphere
-// around the triangles onto their distance field.
+// around the triangles onto their distance field. The input is an obstacle
+// (gdm/obstacle.h): no face of the wrap ever touches it, so all of the input
+// stays inside the wrap, however thin its parts.
 gdm::Mesh shrink_wrap(const std::vector<Triangle>& input, const WrapParams& w, const Progress& progress,
                       LogLines* log);
 

@@ -89,6 +89,9 @@ void validate(const DeformOptions& o, const Volume& volume) {
           "lod_tolerance must be at least 0.01 voxel (below, noise splits every face), got " + num(o.lod_tolerance));
   require(std::isfinite(o.lod_min_angle) && o.lod_min_angle >= 0.0 && o.lod_min_angle < 60.0,
           "lod_min_angle must be in [0, 60) degrees, got " + num(o.lod_min_angle));
+  require(!o.obstacle || (!o.subvoxel_fit && o.lod_tolerance == 0.0),
+          "an obstacle needs subvoxel_fit off and lod_tolerance 0 (the fit and the error-driven level of detail "
+          "do not check obstacles)");
   require(o.lod_rounds >= 1 && o.lod_rounds <= 50, "lod_rounds must be in [1, 50], got " + num(o.lod_rounds));
 
   if (volume.voxel_count() == 0) throw InvalidVolume("the volume is empty");
@@ -317,7 +320,8 @@ std::size_t Deformer::apply_moves(const std::vector<int>& candidates, const std:
     step_[i] = r.next_step;
     if (!r.moved) continue;
     const Mesh::VertexHandle v(i);
-    if (o_.prevent_self_intersection && !guard_->move_is_safe(v, r.position)) {
+    if ((o_.prevent_self_intersection && !guard_->move_is_safe(v, r.position)) ||
+        (o_.obstacle && o_.obstacle->blocks_move(mesh_, v, r.position))) {
       step_[i] = o_.optimizer.min_step;
       active_[i] = 1;  // its neighbours may move out of the way
       continue;
@@ -360,8 +364,14 @@ std::size_t Deformer::resample(int cycle) {
   if (splits > 0) last_split_cycle_ = cycle;
   if (splits > 0 && o_.prevent_self_intersection) guard_->rebuild();
   if (o_.improve_triangles) {
+    const auto flipped_triangle = [&](Mesh::VertexHandle a, Mesh::VertexHandle b, Mesh::VertexHandle c) {
+      return Obstacle::Triangle{to_eigen(mesh_.point(a)), to_eigen(mesh_.point(b)), to_eigen(mesh_.point(c))};
+    };
     const FlipVeto veto = [&](Mesh::EdgeHandle e, const Mesh::VertexHandle (&quad)[4]) {
       if (o_.prevent_self_intersection && !guard_->flip_is_safe(e, quad)) return false;
+      if (o_.obstacle && (o_.obstacle->blocks(flipped_triangle(quad[0], quad[1], quad[3])) ||
+                          o_.obstacle->blocks(flipped_triangle(quad[2], quad[3], quad[1]))))
+        return false;
       for (auto q : quad) activate_around(q);
       return true;
     };

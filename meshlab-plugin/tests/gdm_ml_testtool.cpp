@@ -2,7 +2,7 @@
 //   gdm_ml_testtool inputs <dir>      writes the phantom volume and the meshes
 //   gdm_ml_testtool check <mesh> [--closed] [--manifold] [--genus g]
 //       [--no-self-intersection] [--faces lo hi] [--phantom-sphere maxvox]
-//       [--covers input.ply tol] [--quality]
+//       [--covers input.ply tol] [--no-contact input.ply] [--quality]
 // Exit code 0 when every requested check passes; prints the measurements.
 #include <cmath>
 #include <cstdio>
@@ -14,7 +14,9 @@
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
 
+#include "gdm/float_snap.h"
 #include "gdm/mesh_checks.h"
+#include "gdm/obstacle.h"
 #include "gdm/phantoms.h"
 #include "gdm/seed.h"
 #include "shrink_wrap_field.h"
@@ -168,6 +170,18 @@ int check(int argc, char** argv) {
       std::snprintf(buf, sizeof buf, "largest distance of the %zu input vertices from the wrap %.4f <= %.4f",
                     input.n_vertices(), worst, tol);
       expect(worst <= tol, buf);
+    } else if (a == "--no-contact") {
+      // No face of the wrap touches the input (exact predicates), the input
+      // taken at MeshLab's float precision as the plugin saw it.
+      const std::string input_path = argv[++i];
+      gdm::Mesh input;
+      if (!OpenMesh::IO::read_mesh(input, input_path)) { expect(false, "read " + input_path); continue; }
+      for (auto v : input.vertices())
+        input.set_point(v, gdm::to_point(gdm::round_to_float(gdm::to_eigen(input.point(v)))));
+      const gdm::Obstacle obstacle(soup(input));
+      std::size_t touching = 0;
+      for (const auto& t : soup(mesh)) touching += obstacle.blocks(t) ? 1 : 0;
+      expect(touching == 0, "no face of the wrap touches the input (" + std::to_string(touching) + " do)");
     } else {
       std::printf("FAIL unknown check %s\n", a.c_str());
       ++failures;

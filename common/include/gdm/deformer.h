@@ -9,6 +9,7 @@
 #include <string>
 
 #include "gdm/cost_terms.h"
+#include "gdm/obstacle.h"
 #include "gdm/mesh.h"
 #include "gdm/optimizer.h"
 #include "gdm/volume.h"
@@ -52,6 +53,9 @@ struct DeformOptions {
                                      // fits the vertices it changes even when subvoxel_fit is off
   double lod_min_angle = 15.0;       // collapses keep every new angle above this (or the old smallest), degrees
   int lod_rounds = 6;                // collapse / split / fit rounds of the error-driven level of detail
+  const Obstacle* obstacle = nullptr;  // triangles no move or flip may touch (obstacle.h), e.g. a
+                                       // shrink-wrap's input; not owned; needs the fit and the
+                                       // error-driven level of detail off
   bool float_exact_output = true;    // end with every vertex on a float-representable point, each move
                                      // checked by the guard (float_snap.h): float outputs (STL, MeshLab,
                                      // itk::Mesh<float>) keep the no-self-intersection guarantee

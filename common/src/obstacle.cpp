@@ -1,0 +1,94 @@
+#include "gdm/obstacle.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "gdm/errors.h"
+#include "gdm/predicates.h"
+
+namespace gdm {
+namespace {
+// Distinct ids: the model and the obstacle share no vertex, so any contact
+// counts, degenerate obstacle triangles (points, segments) included.
+constexpr std::array<int, 3> kModelIds{-1, -2, -3};
+constexpr std::array<int, 3> kObstacleIds{-4, -5, -6};
+}  // namespace
+
+Obstacle::Key Obstacle::key(int x, int y, int z) const {
+  const auto u = [](int v) { return static_cast<Key>(static_cast<std::uint32_t>(v + (1 << 20)) & 0x1fffff); };
+  return (u(x) << 42) | (u(y) << 21) | u(z);
+}
+
+std::array<int, 3> Obstacle::cell_of(const Vec3& p) const {
+  return {static_cast<int>(std::floor(p.x() / cell_)), static_cast<int>(std::floor(p.y() / cell_)),
+          static_cast<int>(std::floor(p.z() / cell_))};
+}
+
+Obstacle::Obstacle(std::vector<Triangle> triangles) : triangles_(std::move(triangles)) {
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  double edges = 0.0;
+  for (const auto& t : triangles_) {
+    for (const auto& p : t) {
+      if (!p.allFinite()) throw InvalidOption("an obstacle triangle has a non-finite vertex");
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+    }
+    edges += ((t[1] - t[0]).norm() + (t[2] - t[1]).norm() + (t[0] - t[2]).norm()) / 3.0;
+  }
+  if (triangles_.empty()) return;
+  // About two mean edges a cell, and at most ~2 million cells over the box.
+  const double mean_edge = edges / static_cast<double>(triangles_.size());
+  cell_ = std::max(2.0 * mean_edge, (hi - lo).maxCoeff() / 128.0);
+  if (!(cell_ > 0.0)) cell_ = 1.0;  // a single point (or copies of it)
+  lo_.reserve(triangles_.size());
+  hi_.reserve(triangles_.size());
+  for (std::size_t i = 0; i < triangles_.size(); ++i) {
+    const auto& t = triangles_[i];
+    lo_.push_back(t[0].cwiseMin(t[1]).cwiseMin(t[2]));
+    hi_.push_back(t[0].cwiseMax(t[1]).cwiseMax(t[2]));
+    const auto a = cell_of(lo_.back()), b = cell_of(hi_.back());
+    for (int x = a[0]; x <= b[0]; ++x)
+      for (int y = a[1]; y <= b[1]; ++y)
+        for (int z = a[2]; z <= b[2]; ++z) cells_[key(x, y, z)].push_back(static_cast<int>(i));
+  }
+}
+
+bool Obstacle::blocks(const Triangle& t) const {
+  if (triangles_.empty()) return false;
+  const Vec3 lo = t[0].cwiseMin(t[1]).cwiseMin(t[2]);
+  const Vec3 hi = t[0].cwiseMax(t[1]).cwiseMax(t[2]);
+  const auto touches = [&](int i) {
+    if ((lo_[i].array() > hi.array()).any() || (hi_[i].array() < lo.array()).any()) return false;
+    return triangles_intersect_improperly(t, kModelIds, triangles_[i], kObstacleIds);
+  };
+  // A box far larger than the obstacle's cells: test every triangle once.
+  const Vec3 span = (hi - lo) / cell_;
+  if (!((span.array() + 1.0).prod() < static_cast<double>(4 * cells_.size() + 64))) {
+    for (std::size_t i = 0; i < triangles_.size(); ++i)
+      if (touches(static_cast<int>(i))) return true;
+    return false;
+  }
+  const auto a = cell_of(lo), b = cell_of(hi);
+  for (int x = a[0]; x <= b[0]; ++x)
+    for (int y = a[1]; y <= b[1]; ++y)
+      for (int z = a[2]; z <= b[2]; ++z) {
+        const auto it = cells_.find(key(x, y, z));
+        if (it == cells_.end()) continue;
+        for (int i : it->second)
+          if (touches(i)) return true;
+      }
+  return false;
+}
+
+bool Obstacle::blocks_move(const Mesh& mesh, Mesh::VertexHandle v, const Vec3& p) const {
+  for (auto h : mesh.voh_range(v)) {
+    if (mesh.is_boundary(h)) continue;
+    const Triangle t{p, to_eigen(mesh.point(mesh.to_vertex_handle(h))),
+                     to_eigen(mesh.point(mesh.to_vertex_handle(mesh.next_halfedge_handle(h))))};
+    if (blocks(t)) return true;
+  }
+  return false;
+}
+
+}  // namespace gdm
