@@ -3,22 +3,16 @@
 #include <algorithm>
 #include <cmath>
 
+#include "gdm/cell_hash.h"
 #include "gdm/predicates.h"
 
 namespace gdm {
 
 // ---- FaceGrid -------------------------------------------------------------
 
-FaceGrid::Key FaceGrid::key(int x, int y, int z) const {
-  // 21 bits per axis, offset so that negative cells map to distinct keys.
-  const auto u = [](int v) { return static_cast<Key>(static_cast<std::uint32_t>(v + (1 << 20)) & 0x1fffff); };
-  return (u(x) << 42) | (u(y) << 21) | u(z);
-}
+FaceGrid::Key FaceGrid::key(int x, int y, int z) const { return cell_key(x, y, z); }
 
-std::array<int, 3> FaceGrid::cell_of(const Vec3& p) const {
-  return {static_cast<int>(std::floor(p.x() / cell_size_)), static_cast<int>(std::floor(p.y() / cell_size_)),
-          static_cast<int>(std::floor(p.z() / cell_size_))};
-}
+std::array<int, 3> FaceGrid::cell_of(const Vec3& p) const { return gdm::cell_of(p, cell_size_); }
 
 void FaceGrid::insert_box(int face, Vec3 lo, Vec3 hi) {
   lo.array() -= margin_;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "gdm/cell_hash.h"
 #include "gdm/errors.h"
 #include "gdm/predicates.h"
 
@@ -15,15 +16,9 @@ constexpr std::array<int, 3> kModelIds{-1, -2, -3};
 constexpr std::array<int, 3> kObstacleIds{-4, -5, -6};
 }  // namespace
 
-Obstacle::Key Obstacle::key(int x, int y, int z) const {
-  const auto u = [](int v) { return static_cast<Key>(static_cast<std::uint32_t>(v + (1 << 20)) & 0x1fffff); };
-  return (u(x) << 42) | (u(y) << 21) | u(z);
-}
+Obstacle::Key Obstacle::key(int x, int y, int z) const { return cell_key(x, y, z); }
 
-std::array<int, 3> Obstacle::cell_of(const Vec3& p) const {
-  return {static_cast<int>(std::floor(p.x() / cell_)), static_cast<int>(std::floor(p.y() / cell_)),
-          static_cast<int>(std::floor(p.z() / cell_))};
-}
+std::array<int, 3> Obstacle::cell_of(const Vec3& p) const { return gdm::cell_of(p, cell_); }
 
 Obstacle::Obstacle(std::vector<Triangle> triangles) : triangles_(std::move(triangles)) {
   Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
