@@ -10,7 +10,7 @@ third_party="${GDM_THIRD_PARTY_DIR:-$here/.third_party}"
 packages=(
   build-essential cmake ninja-build ccache pkg-config
   libeigen3-dev libgtest-dev libgmock-dev libbenchmark-dev libopenmesh-dev
-  libinsighttoolkit5-dev libfftw3-dev libgdcm-tools
+  libinsighttoolkit5-dev libfftw3-dev libgdcm-tools libvtk9-dev libcgal-dev
   meshlab qtbase5-dev libqt5opengl5-dev libglew-dev xvfb xauth dpkg-dev
 )
 

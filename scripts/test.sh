@@ -28,3 +28,6 @@ ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:ha
 
 echo "== benchmark (short run, reported only)"
 "$here/build/test/benchmark/gdm_core_benchmark" --benchmark_min_time=0.05 2>&1 | grep -v "^\*\*\*WARNING"
+
+echo "== benchmark study against the peers (--quick: one small case per method, reported only)"
+bash "$here/scripts/benchmark-study.sh" --quick 2>&1 | tail -n 3

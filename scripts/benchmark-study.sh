@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# Runs the side-by-side benchmark study against the peers (VTK flying edges,
+# the 3D Slicer chain, ITK's BinaryMask3DMeshSource and simplex deformable
+# model, CGAL Mesh_3) and writes the report, plots and pictures to
+# docs/benchmarks/. Sets the machine up and builds first (scripts/setup.sh,
+# scripts/build.sh). Renders offscreen under xvfb-run.
+#
+#   bash scripts/benchmark-study.sh            # the whole study (about 15 minutes on 2 cores)
+#   bash scripts/benchmark-study.sh --quick    # one small case per method, one run (CI), into build/benchmark-study-quick
+#
+# Other arguments go to gdm_benchmark_study (--runs N, --threads N, --out DIR, --budget SECONDS).
+# GDM_BUILD_DIR picks the build folder (default build/); GDM_SHARED_DIR the
+# folder holding data/ (default ../shared); GDM_STUDY_CMAKE_ARGS extra CMake arguments.
+set -euo pipefail
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+build="${GDM_BUILD_DIR:-$here/build}"
+shared="${GDM_SHARED_DIR:-$here/../shared}"
+
+bash "$here/scripts/setup.sh"
+# shellcheck disable=SC2086
+GDM_BUILD_DIR="$build" bash "$here/scripts/build.sh" ${GDM_STUDY_CMAKE_ARGS:-}
+study="$build/test/benchmark/study/gdm_benchmark_study"
+if [ ! -x "$study" ]; then
+  echo "benchmark-study: $study was not built (it needs libvtk9-dev and libcgal-dev; see $build.configure.log)" >&2
+  exit 1
+fi
+
+out="$here/docs/benchmarks"
+for a in "$@"; do
+  if [ "$a" = "--quick" ]; then out="$build/benchmark-study-quick"; fi
+done
+commit="$(git -C "$here" rev-parse --short HEAD 2>/dev/null || echo unknown)"
+if [ -n "$(git -C "$here" status --porcelain --untracked-files=no 2>/dev/null || true)" ]; then
+  commit="$commit (with uncommitted changes)"
+fi
+# A later --out among "$@" overrides this one. The X display number starts at a
+# random point: parallel xvfb-run -a calls starting at the same number can share
+# (and lose) one server.
+xvfb-run -a -n "$((100 + RANDOM % 800))" "$study" --out "$out" --data "$shared/data" --commit "$commit" "$@"

@@ -1,0 +1,395 @@
+// See cases.h.
+#include "cases.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <random>
+#include <stdexcept>
+
+#include "gdm/phantoms.h"
+#include "gdm/seed.h"
+#include "peer_itk.h"
+
+namespace study {
+namespace {
+
+namespace ph = gdm::phantoms;
+using gdm::Vec3;
+
+constexpr double kBackground = 50.0, kContrast = 150.0;  // phantom values: 50 outside, 200 inside
+constexpr double kThreshold = kBackground + kContrast / 2;
+
+Image to_image(const gdm::Volume& v) {
+  Image image;
+  for (int a = 0; a < 3; ++a) {
+    image.dims[a] = v.dims()[a];
+    image.spacing[a] = v.spacing()[a];
+    image.origin[a] = v.origin()[a];
+  }
+  image.values = v.values();
+  return image;
+}
+
+Image sample_field(const ph::Grid& grid, const ph::Sdf& sdf) {
+  Image image;
+  image.dims = grid.dims;
+  for (int a = 0; a < 3; ++a) {
+    image.spacing[a] = grid.spacing[a];
+    image.origin[a] = grid.origin[a];
+  }
+  image.values.resize(static_cast<std::size_t>(grid.dims[0]) * grid.dims[1] * grid.dims[2]);
+  std::size_t i = 0;
+  for (int z = 0; z < grid.dims[2]; ++z)
+    for (int y = 0; y < grid.dims[1]; ++y)
+      for (int x = 0; x < grid.dims[0]; ++x, ++i)
+        image.values[i] = static_cast<float>(
+            sdf(grid.origin + Vec3(x * grid.spacing.x(), y * grid.spacing.y(), z * grid.spacing.z())));
+  return image;
+}
+
+Point pt(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
+Vec3 vec(const Point& p) { return {p[0], p[1], p[2]}; }
+
+struct Shape {
+  std::string name, id;
+  ph::Grid grid;
+  ph::Sdf sdf;
+  std::function<double(const Vec3&)> distance;  // exact unsigned distance; defaults to |sdf|
+  Vec3 seed;
+};
+
+std::vector<Shape> shapes(bool quick) {
+  std::vector<Shape> s;
+  ph::Grid g;
+  const Vec3 c = g.center();
+  s.push_back({"sphere", "sphere", g, ph::sphere(c, 20.0), {}, c});
+  if (quick) return s;
+  {
+    ph::Grid a;
+    a.dims = {64, 64, 32};
+    a.spacing = Vec3(1.0, 1.0, 2.0);
+    const Vec3 ac = a.center();
+    const Vec3 radii(24, 16, 20);
+    s.push_back({"ellipsoid, spacing 1x1x2", "ellipsoid", a, ph::ellipsoid(ac, radii),
+                 [ac, radii](const Vec3& p) { return ph::distance_to_ellipsoid(p, ac, radii); }, ac});
+  }
+  s.push_back({"cube with a corner missing", "cube", g,
+               ph::difference(ph::box(Vec3(12, 12, 12), Vec3(52, 52, 52)), ph::box(Vec3(32, 32, 32), Vec3(60, 60, 60))),
+               {}, Vec3(24, 24, 24)});
+  s.push_back({"bent tube", "tube", g, ph::bent_tube(c, 18.0, 6.0, 1.5 * M_PI), {}, c + Vec3(18.0, 0.5, 0.0)});
+  s.push_back({"branching shape", "branching", g,
+               ph::unite({ph::capsule(c + Vec3(0, 0, 18), c, 6.0), ph::capsule(c, c + Vec3(14, 0, -18), 4.5),
+                          ph::capsule(c, c + Vec3(-12, 8, -18), 4.5), ph::capsule(c, c + Vec3(-4, -14, -16), 4.0)}),
+               {}, c + Vec3(0, 0, 10)});
+  return s;
+}
+
+Case phantom_case(const Shape& shape, const std::string& variant, const gdm::Volume& volume) {
+  Case k;
+  k.group = "phantom";
+  k.name = shape.name + ", " + variant;
+  k.id = shape.id + "-" + variant;
+  std::replace(k.id.begin(), k.id.end(), ' ', '-');
+  k.image = to_image(volume);
+  k.threshold = kThreshold;
+  k.seed = pt(shape.seed);
+  const auto sdf = shape.sdf;
+  const auto distance = shape.distance;
+  k.exact_distance = distance ? std::function<double(const Point&)>([distance](const Point& p) { return distance(vec(p)); })
+                              : std::function<double(const Point&)>([sdf](const Point& p) { return std::abs(sdf(vec(p))); });
+  k.truth_field = sample_field(shape.grid, shape.sdf);
+  k.truth_level = 0.0;
+  return k;
+}
+
+// Voxels on the object-darker side of the threshold that are not 6-connected
+// to `start` are set to a value on the other side (mirrored about the
+// threshold): cavities are filled, or other dark regions hidden, so that
+// every method sees the one object the case is about. Returns the size of the
+// connected region.
+std::size_t keep_dark_region(Image& image, double threshold, std::array<int, 3> start) {
+  const auto& d = image.dims;
+  const std::size_t n = image.values.size();
+  std::vector<char> reached(n, 0);
+  auto index = [&](int x, int y, int z) {
+    return static_cast<std::size_t>(x) + static_cast<std::size_t>(d[0]) * (y + static_cast<std::size_t>(d[1]) * z);
+  };
+  std::vector<std::array<int, 3>> stack{start};
+  reached[index(start[0], start[1], start[2])] = 1;
+  std::size_t count = 0;
+  while (!stack.empty()) {
+    const auto p = stack.back();
+    stack.pop_back();
+    ++count;
+    static const int offsets[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    for (const auto& o : offsets) {
+      const int x = p[0] + o[0], y = p[1] + o[1], z = p[2] + o[2];
+      if (x < 0 || y < 0 || z < 0 || x >= d[0] || y >= d[1] || z >= d[2]) continue;
+      const std::size_t i = index(x, y, z);
+      if (reached[i] || image.values[i] >= threshold) continue;
+      reached[i] = 1;
+      stack.push_back({x, y, z});
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i)
+    if (!reached[i] && image.values[i] < threshold) image.values[i] = static_cast<float>(2.0 * threshold - image.values[i]);
+  return count;
+}
+
+// Pads the image with `pad` voxels of `value` on every side (closes surfaces cut by the field of view).
+Image pad(const Image& in, int pad_by, float value) {
+  Image out;
+  for (int a = 0; a < 3; ++a) {
+    out.dims[a] = in.dims[a] + 2 * pad_by;
+    out.spacing[a] = in.spacing[a];
+    out.origin[a] = in.origin[a] - pad_by * in.spacing[a];
+  }
+  out.values.assign(static_cast<std::size_t>(out.dims[0]) * out.dims[1] * out.dims[2], value);
+  for (int z = 0; z < in.dims[2]; ++z)
+    for (int y = 0; y < in.dims[1]; ++y)
+      for (int x = 0; x < in.dims[0]; ++x)
+        out.values[static_cast<std::size_t>(x + pad_by) +
+                   static_cast<std::size_t>(out.dims[0]) * (y + pad_by + static_cast<std::size_t>(out.dims[1]) * (z + pad_by))] =
+            static_cast<float>(in.value(x, y, z));
+  return out;
+}
+
+
+// Averages blocks of f[0] x f[1] x f[2] voxels (to keep the study within its time budget).
+Image average_blocks(const Image& in, std::array<int, 3> f) {
+  Image out;
+  for (int a = 0; a < 3; ++a) {
+    out.dims[a] = in.dims[a] / f[a];
+    out.spacing[a] = f[a] * in.spacing[a];
+    out.origin[a] = in.origin[a] + 0.5 * (f[a] - 1) * in.spacing[a];
+  }
+  out.values.resize(static_cast<std::size_t>(out.dims[0]) * out.dims[1] * out.dims[2]);
+  const double n = static_cast<double>(f[0]) * f[1] * f[2];
+  std::size_t i = 0;
+  for (int z = 0; z < out.dims[2]; ++z)
+    for (int y = 0; y < out.dims[1]; ++y)
+      for (int x = 0; x < out.dims[0]; ++x, ++i) {
+        double sum = 0.0;
+        for (int k = 0; k < f[2]; ++k)
+          for (int j = 0; j < f[1]; ++j)
+            for (int l = 0; l < f[0]; ++l) sum += in.value(f[0] * x + l, f[1] * y + j, f[2] * z + k);
+        out.values[i] = static_cast<float>(sum / n);
+      }
+  return out;
+}
+
+// The voxel nearest the volume's centre whose neighbourhood of `radius` mm
+// lies on the object's side of the threshold: where a seed of that radius fits.
+std::array<int, 3> central_seed_voxel(const Image& image, double threshold, bool brighter, double radius) {
+  const auto& d = image.dims;
+  int r[3];
+  for (int a = 0; a < 3; ++a) r[a] = std::max(1, static_cast<int>(std::ceil(radius / image.spacing[a])));
+  auto inside = [&](int x, int y, int z) {
+    const double v = image.value(x, y, z);
+    return brighter ? v > threshold : v < threshold;
+  };
+  auto fits = [&](int x, int y, int z) {
+    for (int k = -r[2]; k <= r[2]; ++k)
+      for (int j = -r[1]; j <= r[1]; ++j)
+        for (int i = -r[0]; i <= r[0]; ++i) {
+          const int X = x + i, Y = y + j, Z = z + k;
+          if (X < 0 || Y < 0 || Z < 0 || X >= d[0] || Y >= d[1] || Z >= d[2] || !inside(X, Y, Z)) return false;
+        }
+    return true;
+  };
+  const int cx = d[0] / 2, cy = d[1] / 2, cz = d[2] / 2;
+  const int reach = std::max({d[0], d[1], d[2]}) / 2;
+  for (int shell = 0; shell <= reach; ++shell)
+    for (int z = std::max(0, cz - shell); z <= std::min(d[2] - 1, cz + shell); ++z)
+      for (int y = std::max(0, cy - shell); y <= std::min(d[1] - 1, cy + shell); ++y)
+        for (int x = std::max(0, cx - shell); x <= std::min(d[0] - 1, cx + shell); ++x) {
+          if (std::max({std::abs(x - cx), std::abs(y - cy), std::abs(z - cz)}) != shell) continue;
+          if (fits(x, y, z)) return {x, y, z};
+        }
+  throw std::runtime_error("no place for a seed inside the object");
+}
+
+}  // namespace
+
+double Case::voxel_size() const { return std::min({image.spacing[0], image.spacing[1], image.spacing[2]}); }
+
+CaseSet phantom_cases(bool quick) {
+  CaseSet set;
+  unsigned seed = 7;
+  for (const Shape& s : shapes(quick)) {
+    const gdm::Volume clean = ph::voxelize(s.grid, s.sdf, kBackground, kContrast);
+    set.cases.push_back(phantom_case(s, "clean", clean));
+    if (quick) break;
+    Case g = phantom_case(s, "Gaussian noise", ph::with_gaussian_noise(clean, 20.0, seed++));
+    g.note = "Gaussian noise, sigma 20 (contrast 150)";
+    set.cases.push_back(std::move(g));
+    {
+      // Salt and pepper: 10% of the inside voxels set to the background, 1% of the outside ones to the object.
+      const gdm::Volume peppered = ph::with_pepper(clean, s.sdf, 0.10, kBackground, 1.0, seed++);
+      std::vector<float> values = peppered.values();
+      std::mt19937 rng(seed++);
+      std::uniform_real_distribution<double> u(0.0, 1.0);
+      std::size_t i = 0;
+      for (int z = 0; z < s.grid.dims[2]; ++z)
+        for (int y = 0; y < s.grid.dims[1]; ++y)
+          for (int x = 0; x < s.grid.dims[0]; ++x, ++i)
+            if (s.sdf(clean.to_physical(Vec3(x, y, z))) > 1.0 && u(rng) < 0.01)
+              values[i] = static_cast<float>(kBackground + kContrast);
+      Case p = phantom_case(s, "salt and pepper",
+                            gdm::Volume(clean.dims(), std::move(values), clean.spacing(), clean.origin(), clean.direction()));
+      p.note = "10% of the inside voxels at the background value, 1% of the outside ones at the object value";
+      set.cases.push_back(std::move(p));
+    }
+    {
+      // A hole in the wall: the shape is a dark cavity in a bright 4 mm wall with
+      // a hole of radius 2 mm; the cavity is the object (grown from inside).
+      Vec3 exit = s.seed;
+      while (s.sdf(exit) < 0.0) exit.x() += 0.25;
+      const ph::Sdf cavity = s.sdf;
+      const ph::Sdf wall = ph::difference(
+          ph::difference([cavity](const Vec3& p) { return cavity(p) - 4.0; }, cavity),
+          ph::capsule(exit - Vec3(2, 0, 0), exit + Vec3(8, 0, 0), 2.0));
+      Case h = phantom_case(s, "hole in the wall", ph::voxelize(s.grid, wall, kBackground, kContrast));
+      h.object_brighter = false;
+      h.note = "dark cavity (the object) in a bright 4 mm wall with a 2 mm-radius hole at (" +
+               std::to_string(static_cast<int>(exit.x())) + ", " + std::to_string(static_cast<int>(exit.y())) + ", " +
+               std::to_string(static_cast<int>(exit.z())) + ")";
+      set.cases.push_back(std::move(h));
+    }
+  }
+  return set;
+}
+
+CaseSet scan_cases(const std::string& data_dir) {
+  CaseSet set;
+  namespace fs = std::filesystem;
+  auto make = [&](const std::string& name, const std::string& id, const std::string& path, double threshold,
+                  bool brighter, gdm::Mode mode, std::array<int, 3> seed_voxel, const std::string& note,
+                  bool isolate, std::array<int, 3> block = {1, 1, 1}) {
+    if (!fs::exists(path)) {
+      set.skipped.push_back(name + ": " + path + " not found");
+      return;
+    }
+    Image raw;
+    try {
+      raw = read_scan(path);
+    } catch (const std::exception& e) {
+      set.skipped.push_back(name + ": " + e.what());
+      return;
+    }
+    const bool averaged = block[0] * block[1] * block[2] > 1;
+    if (averaged) raw = average_blocks(raw, block);
+    Case k;
+    k.group = "scan";
+    k.name = name;
+    k.id = id;
+    const float low = *std::min_element(raw.values.begin(), raw.values.end());
+    const float high = *std::max_element(raw.values.begin(), raw.values.end());
+    // Two voxels of background around the field of view close the surfaces it cuts.
+    k.image = pad(raw, 2, brighter ? low : high);
+    k.threshold = threshold;
+    k.object_brighter = brighter;
+    k.mode = mode;
+    k.note = note + "; padded with 2 voxels of background";
+    if (isolate) {
+      // The dark side connected to the seed voxel (object darker) or to the
+      // corner (object brighter: the background) is kept; other dark regions are filled.
+      Image flipped = k.image;
+      if (brighter) {
+        const std::size_t n = keep_dark_region(flipped, threshold, {0, 0, 0});
+        (void)n;
+        k.note += "; dark regions not connected to the outside filled (cavities closed)";
+      } else {
+        const std::array<int, 3> s{seed_voxel[0] + 2, seed_voxel[1] + 2, seed_voxel[2] + 2};
+        const std::size_t n = keep_dark_region(flipped, threshold, s);
+        k.note += "; dark regions other than the seed's (" + std::to_string(n) + " voxels) set bright";
+      }
+      k.image = std::move(flipped);
+    }
+    if (seed_voxel[0] < 0) {
+      try {
+        const auto v = central_seed_voxel(k.image, threshold, brighter, k.seed_radius);
+        seed_voxel = {v[0] - 2, v[1] - 2, v[2] - 2};
+        k.note += "; seed at the voxel nearest the centre where the seed fits inside, (" + std::to_string(seed_voxel[0]) +
+                  ", " + std::to_string(seed_voxel[1]) + ", " + std::to_string(seed_voxel[2]) + ")";
+      } catch (const std::exception& e) {
+        set.skipped.push_back(name + ": " + e.what());
+        return;
+      }
+    }
+    if (averaged)
+      k.note += "; averaged in blocks of " + std::to_string(block[0]) + "x" + std::to_string(block[1]) + "x" +
+                std::to_string(block[2]) + " voxels (to keep the study within its time budget)";
+    for (int a = 0; a < 3; ++a) k.seed[a] = k.image.origin[a] + k.image.spacing[a] * (seed_voxel[a] + 2);
+    k.truth_field = k.image;
+    k.truth_level = threshold;
+    (void)high;
+    set.cases.push_back(std::move(k));
+  };
+  const std::string tooth = data_dir + "/tooth/tooth.mhd";
+  make("tooth pulp (industrial CT)", "tooth-pulp", tooth, 115.0, false, gdm::Mode::grow, {50, 47, 95},
+       "threshold 115, pulp darker than dentin, seed voxel (50, 47, 95)", true);
+  // Outer surfaces: cavities are filled first, so the model grows from inside to the outer surface.
+  make("tooth outer surface (industrial CT)", "tooth-outer", tooth, 115.0, true, gdm::Mode::grow, {-1, -1, -1},
+       "threshold 115", true);
+  make("CT head phantom (DICOM)", "ct-phantom", data_dir + "/ct-phantom-dicom/series", -400.0, true,
+       gdm::Mode::grow, {-1, -1, -1}, "threshold -400 HU", true, {4, 4, 1});
+  make("T1 MRI head, skin", "mri-skin", data_dir + "/mri-head-t1/chris_t1.nii.gz", 40.0, true, gdm::Mode::grow,
+       {-1, -1, -1}, "threshold 40", true, {2, 2, 2});
+  return set;
+}
+
+CaseSet volume_scaling_cases(bool quick) {
+  CaseSet set;
+  const std::vector<int> sizes = quick ? std::vector<int>{48} : std::vector<int>{64, 128, 256, 512};
+  for (int n : sizes) {
+    ph::Grid g;
+    g.dims = {n, n, n};
+    const Vec3 c = g.center();
+    const auto sdf = ph::sphere(c, 20.0);
+    Case k = phantom_case({"sphere r 20", "sphere", g, sdf, {}, c}, std::to_string(n) + "^3", ph::voxelize(g, sdf, kBackground, kContrast));
+    k.group = "scaling: volume size";
+    k.name = "sphere of radius 20 in " + std::to_string(n) + "^3";
+    k.id = "volume-" + std::to_string(n);
+    k.truth_field = Image();  // exact distance only; the coverage is not needed for the timing series
+    set.cases.push_back(std::move(k));
+  }
+  return set;
+}
+
+CaseSet area_scaling_cases(bool quick) {
+  CaseSet set;
+  if (quick) return set;
+  for (double r : {10.0, 20.0, 40.0, 70.0}) {
+    ph::Grid g;
+    g.dims = {160, 160, 160};
+    const Vec3 c = g.center();
+    const auto sdf = ph::sphere(c, r);
+    Case k = phantom_case({"sphere", "sphere", g, sdf, {}, c}, "r", ph::voxelize(g, sdf, kBackground, kContrast));
+    k.group = "scaling: surface area";
+    k.name = "sphere of radius " + std::to_string(static_cast<int>(r)) + " in 160^3";
+    k.id = "area-" + std::to_string(static_cast<int>(r));
+    k.truth_field = Image();
+    set.cases.push_back(std::move(k));
+  }
+  return set;
+}
+
+gdm::Mesh seed_mesh(const Case& c) {
+  if (c.mode == gdm::Mode::grow) return gdm::make_icosahedron(vec(c.seed), c.seed_radius);
+  // An ellipsoid inscribed in the volume, 1.5 voxels inside its border.
+  gdm::Mesh mesh = gdm::make_geodesic_sphere(Vec3::Zero(), 1.0, 3);
+  Vec3 center, radii;
+  for (int a = 0; a < 3; ++a) {
+    center[a] = c.image.origin[a] + 0.5 * (c.image.dims[a] - 1) * c.image.spacing[a];
+    radii[a] = (0.5 * (c.image.dims[a] - 1) - 1.5) * c.image.spacing[a];
+  }
+  for (auto v : mesh.vertices()) {
+    const auto p = mesh.point(v);
+    mesh.set_point(v, gdm::to_point(center + Vec3(p[0] * radii[0], p[1] * radii[1], p[2] * radii[2])));
+  }
+  return mesh;
+}
+
+}  // namespace study

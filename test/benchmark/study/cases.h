@@ -1,0 +1,49 @@
+// The study's cases: analytic phantoms (exact ground truth), real scans
+// (reference: iso-surface of the 2x-upsampled volume) and scaling series.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "gdm/deformer.h"
+#include "gdm/mesh.h"
+#include "study_types.h"
+
+namespace study {
+
+struct Case {
+  std::string group;  // "phantom", "scan", "scaling: volume size", "scaling: surface area"
+  std::string name;   // shown in the report
+  std::string id;     // file-safe
+  Image image;
+  double threshold = 125.0;
+  bool object_brighter = true;
+  gdm::Mode mode = gdm::Mode::grow;
+  Point seed{0, 0, 0};       // grow: centre of the seed icosahedron (radius seed_radius mm)
+  double seed_radius = 3.0;  // shrink: the seed is an ellipsoid inscribed in the volume
+  // Exact unsigned distance to the true surface (mm) for phantoms; empty for scans.
+  std::function<double(const Point&)> exact_distance;
+  // The signed distance on the grid (phantoms) or the volume itself (scans),
+  // and the level of its reference surface: the truth the coverage is measured on.
+  Image truth_field;
+  double truth_level = 0.0;
+  std::string note;  // preprocessing, shown in the report
+  double voxel_size() const;
+};
+
+struct CaseSet {
+  std::vector<Case> cases;
+  std::vector<std::string> skipped;  // "name: reason"
+};
+
+// quick: one small phantom only.
+CaseSet phantom_cases(bool quick);
+CaseSet scan_cases(const std::string& data_dir);
+CaseSet volume_scaling_cases(bool quick);
+CaseSet area_scaling_cases(bool quick);
+
+// The closed seed mesh GDM (and, in index units, ITK's simplex) starts from.
+gdm::Mesh seed_mesh(const Case& c);
+
+}  // namespace study

@@ -1,0 +1,40 @@
+// Validity checks and error figures of any method's surface, computed with
+// gdm's mesh checks (study surfaces are converted to a gdm::Mesh when they are
+// 2-manifold; triangle soups that are not get the same checks done on the soup,
+// with gdm's exact predicate for self-intersections).
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <vector>
+
+#include "gdm/mesh.h"
+#include "study_types.h"
+
+namespace study {
+
+Surface from_gdm(const gdm::Mesh& mesh);  // keeps the vertex generation
+
+struct Checks {
+  bool closed = false;
+  bool two_manifold = false;
+  long self_intersections = -1;  // improperly intersecting face pairs; -1 = not computed
+  int components = 0;            // faces connected through edges
+  int genus = -1;                // only for closed 2-manifold surfaces; -1 otherwise
+  bool via_gdm_mesh = false;     // measured on a gdm::Mesh with gdm::measure
+};
+// Self-intersections are skipped (-1) above `max_faces_for_intersections` faces.
+Checks check_surface(const Surface& surface, std::size_t max_faces_for_intersections = 3000000);
+
+// Points where a surface's error is measured: its vertices and face centroids.
+std::vector<Point> sample_points(const Surface& surface);
+
+struct ErrorStats {
+  double mean = 0.0, p95 = 0.0, max = 0.0;  // voxels
+  bool valid = false;
+};
+// |distance| of the points, divided by voxel_size.
+ErrorStats error_stats(const std::vector<Point>& points, const std::function<double(const Point&)>& distance,
+                       double voxel_size);
+
+}  // namespace study
