@@ -98,6 +98,34 @@ TEST(SplitCriterion, measures_the_offset_of_a_face_from_the_surface) {
   }
 }
 
+TEST(SplitCriterion, noise_estimate_follows_the_image_noise) {
+  // A sphere's threshold crossings, seen from a fine mesh on it: on a clean
+  // volume only the faces' chords scatter the distances; the noise adds in
+  // quadrature, in proportion to its sigma.
+  ph::Grid grid;
+  grid.dims = {40, 40, 40};
+  const auto sdf = ph::sphere(grid.center(), 12.0);
+  const Volume clean = ph::voxelize(grid, sdf, kBackground, kContrast);
+  const Mesh mesh = make_geodesic_sphere(grid.center(), 12.0, 4);
+  const double none = estimate_crossing_noise(mesh, clean, kThreshold, 1.5);
+  const double low = estimate_crossing_noise(mesh, ph::with_gaussian_noise(clean, 0.05 * kContrast, 5), kThreshold, 1.5);
+  const double high = estimate_crossing_noise(mesh, ph::with_gaussian_noise(clean, 0.10 * kContrast, 5), kThreshold, 1.5);
+  std::printf("crossing noise: clean %.4f, sigma 5%% %.4f, sigma 10%% %.4f mm\n", none, low, high);
+  EXPECT_LT(none, 0.05);
+  ASSERT_GT(low, none);
+  ASSERT_GT(high, low);
+  EXPECT_NEAR(std::sqrt(high * high - none * none) / std::sqrt(low * low - none * none), 2.0, 0.4);
+  // A face is not split to follow that noise: with the estimate discounted,
+  // the faces of the (exact) mesh deviate less than without it.
+  const Volume noisy = ph::with_gaussian_noise(clean, 0.05 * kContrast, 5);
+  double with = 0.0, without = 0.0;
+  for (auto f : mesh.faces()) {
+    with += face_deviation(mesh, f, noisy, kThreshold, 1.5, low);
+    without += face_deviation(mesh, f, noisy, kThreshold, 1.5);
+  }
+  EXPECT_LT(with, 0.75 * without);
+}
+
 TEST(CollapseChecks, link_condition_refuses_a_collapse_that_pinches) {
   // A triangular bipyramid: the equator a, b, c is a triangle without a face.
   Mesh m;

@@ -22,16 +22,39 @@ Vec3 pos(const Mesh& mesh, Mesh::VertexHandle v) { return to_eigen(mesh.point(v)
 // largest-distance criterion split everywhere; the largest distance catches
 // a face straddling a crease or a thin part, where signed distances cancel.
 // Both infinite when a point finds no crossing.
+// Standard errors of the face's mean distance that the image noise may
+// explain before a face counts as deviating (measured: 2 leaves the noisy
+// sphere and branching tube too coarse, 0 splits on the ellipsoid's noise).
+constexpr double kMeanNoise = 1.0;
+
 struct Deviation {
   double mean = 0.0;     // |mean signed distance|, mm
   double largest = 0.0;  // largest |distance|, mm
+  double noise = 0.0;    // standard deviation of one distance expected from the image noise, mm
+  double cells = 1.0;    // independent noise values the seven points see (1..7)
   // The deviation compared with a tolerance: the mean, or a third of the
-  // largest distance (which noise alone rarely reaches).
-  double value() const { return std::max(mean, largest / 3.0); }
+  // largest distance (which noise alone rarely reaches), each less what the
+  // image noise explains (kMeanNoise standard errors of the mean, three
+  // standard deviations of one distance): a face is not split to follow
+  // noise, and flat parts can still be collapsed in a noisy image.
+  double value() const {
+    return std::max({0.0, mean - kMeanNoise * noise / std::sqrt(cells), (largest - 3.0 * noise) / 3.0});
+  }
 };
 
+// How many voxel cells the plane of a face of `area` (mm^2) with unit normal
+// u crosses: a plane crosses (sum_i |u_i| s_i) / (s_x s_y s_z) cells per mm^2
+// (u_i in the grid's axes). Noise is independent from cell to cell, so this
+// counts the independent noise values behind the face's distances.
+double noise_cells(const Volume& volume, const Vec3& u, double area) {
+  const Vec3 s = volume.spacing();
+  const Vec3 m = volume.direction().transpose() * u;
+  const double per_mm2 = (m.cwiseAbs().dot(s)) / (s.x() * s.y() * s.z());
+  return std::clamp(area * per_mm2, 1.0, 7.0);
+}
+
 Deviation triangle_deviation(const Vec3& a, const Vec3& b, const Vec3& c, const Volume& volume, double threshold,
-                             double search_mm) {
+                             double search_mm, double noise_mm, double* residuals = nullptr) {
   const double inf = std::numeric_limits<double>::infinity();
   const Vec3 n = (b - a).cross(c - a);
   const double len = n.norm();
@@ -39,17 +62,23 @@ Deviation triangle_deviation(const Vec3& a, const Vec3& b, const Vec3& c, const 
   const Vec3 u = n / len;
   const double step = std::min(0.25 * volume.voxel_size(), search_mm);
   const Vec3 g = (a + b + c) / 3.0;
-  double sum = 0.0, largest = 0.0;
+  double d[7];
   int count = 0;
   for (const Vec3& s : {g, Vec3(0.5 * (a + b)), Vec3(0.5 * (b + c)), Vec3(0.5 * (c + a)), Vec3(0.5 * (g + a)),
                         Vec3(0.5 * (g + b)), Vec3(0.5 * (g + c))}) {
-    const auto d = find_crossing(volume, threshold, s, u, search_mm, step);
-    if (!d) return {inf, inf};
-    sum += *d;
-    largest = std::max(largest, std::abs(*d));
-    ++count;
+    const auto t = find_crossing(volume, threshold, s, u, search_mm, step);
+    if (!t) return {inf, inf};
+    d[count++] = *t;
   }
-  return {std::abs(sum / count), largest};
+  double sum = 0.0, largest = 0.0;
+  for (double x : d) {
+    sum += x;
+    largest = std::max(largest, std::abs(x));
+  }
+  const double mean = sum / count;
+  if (residuals)
+    for (int i = 0; i < count; ++i) residuals[i] = d[i] - mean;
+  return {std::abs(mean), largest, noise_mm, noise_mm > 0.0 ? noise_cells(volume, u, 0.5 * len) : 1.0};
 }
 
 double smallest_angle(const Vec3& a, const Vec3& b, const Vec3& c) {
@@ -81,14 +110,33 @@ Tri face_tri(const Mesh& mesh, Mesh::FaceHandle f, int from = -1, int to = -1, c
 }  // namespace
 
 double face_deviation(const Mesh& mesh, Mesh::FaceHandle f, const Volume& volume, double threshold,
-                      double search_mm) {
+                      double search_mm, double noise_mm) {
   auto it = mesh.cfv_iter(f);
   const Vec3 a = pos(mesh, *it), b = pos(mesh, *++it), c = pos(mesh, *++it);
-  return triangle_deviation(a, b, c, volume, threshold, search_mm).value();
+  return triangle_deviation(a, b, c, volume, threshold, search_mm, noise_mm).value();
+}
+
+double estimate_crossing_noise(const Mesh& mesh, const Volume& volume, double threshold, double search_mm) {
+  std::vector<double> r;
+  r.reserve(7 * mesh.n_faces());
+  for (auto f : mesh.faces()) {
+    if (mesh.has_face_status() && mesh.status(f).deleted()) continue;
+    auto it = mesh.cfv_iter(f);
+    const Vec3 a = pos(mesh, *it), b = pos(mesh, *++it), c = pos(mesh, *++it);
+    double res[7];
+    if (!std::isfinite(triangle_deviation(a, b, c, volume, threshold, search_mm, 0.0, res).mean)) continue;
+    for (double x : res) r.push_back(std::abs(x));
+  }
+  if (r.empty()) return 0.0;
+  const auto mid = r.begin() + static_cast<long>(r.size() / 2);
+  std::nth_element(r.begin(), mid, r.end());
+  // Median absolute residual of a normal law is 0.6745 sigma; a residual
+  // from the mean of seven has 6/7 of one distance's variance.
+  return *mid / 0.6745 * std::sqrt(7.0 / 6.0);
 }
 
 std::size_t split_deviating_faces(Mesh& mesh, const Volume& volume, double threshold, double tolerance_mm,
-                                  double min_edge_mm, int generation) {
+                                  double min_edge_mm, int generation, double noise_mm) {
   const auto gen = generation_property(mesh);
   const double search = std::max(3.0 * tolerance_mm, 1.5 * volume.voxel_size());
   std::vector<char> marked(mesh.n_edges(), 0);
@@ -108,7 +156,7 @@ std::size_t split_deviating_faces(Mesh& mesh, const Volume& volume, double thres
     if (marked[e.idx()]) continue;
     // A face with no crossing within reach is not near the surface (a part
     // the deformation did not reach): not the level of detail's business.
-    const double deviation = face_deviation(mesh, f, volume, threshold, search);
+    const double deviation = face_deviation(mesh, f, volume, threshold, search, noise_mm);
     if (deviation <= tolerance_mm || !std::isfinite(deviation)) continue;
     marked[e.idx()] = 1;
     to_split.emplace_back(mesh.from_vertex_handle(longest), mesh.to_vertex_handle(longest));
@@ -251,7 +299,7 @@ std::size_t collapse_flat_edges(Mesh& mesh, const Volume* volume, double thresho
         for (auto f : mesh.vf_range(v0)) {
           if (f == gone0 || f == gone1) continue;
           const Tri t = face_tri(mesh, f, v0.idx(), v1.idx(), pos(mesh, v1));
-          if (triangle_deviation(t.p[0], t.p[1], t.p[2], *volume, threshold, o.search).value() > o.tolerance) {
+          if (triangle_deviation(t.p[0], t.p[1], t.p[2], *volume, threshold, o.search, o.noise).value() > o.tolerance) {
             within = false;
             break;
           }

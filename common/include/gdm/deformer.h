@@ -46,7 +46,8 @@ struct DeformOptions {
   // Beyond the paper: the final fit and the error-driven level of detail, run
   // once after the last convergence (see surface_fit.h and error_lod.h).
   bool subvoxel_fit = true;          // move every vertex onto the threshold crossing of the trilinear field
-  int fit_passes = 4;                // sweeps of the fit (normals re-estimated each sweep)
+  int fit_passes = 8;                // sweeps of the fit (normals re-estimated each sweep; stops early at
+                                     // a fixed point)
   double fit_max_distance = 1.0;     // a vertex moves at most this far in the fit, voxels (0, 4]
   double lod_tolerance = 0.0;        // error-driven level of detail: largest deviation of a face from
                                      // the threshold surface, voxels (smallest spacing); 0 = off. It

@@ -19,9 +19,17 @@ namespace gdm {
 // over the face, each measured along the face normal to the crossing (searched
 // within search_mm), the larger of |mean signed distance| and a third of the
 // largest distance (robust to image noise, yet catching faces that straddle a
-// crease; see the source); infinity when a point finds no crossing.
+// crease; see the source), each less what image noise of noise_mm (the
+// standard deviation of one crossing distance, estimate_crossing_noise)
+// explains; infinity when a point finds no crossing.
 double face_deviation(const Mesh& mesh, Mesh::FaceHandle f, const Volume& volume, double threshold,
-                      double search_mm);
+                      double search_mm, double noise_mm = 0.0);
+
+// The standard deviation (mm) of one crossing distance that the image noise
+// causes, estimated over the whole mesh from the residuals of the faces'
+// seven distances about their mean (median absolute residual: robust to the
+// few faces that straddle an edge; about 0 on a noise-free volume).
+double estimate_crossing_noise(const Mesh& mesh, const Volume& volume, double threshold, double search_mm);
 
 // Splits the longest edge of every face that deviates by more than
 // `tolerance_mm` (faces with no crossing within reach are left alone) and
@@ -29,7 +37,7 @@ double face_deviation(const Mesh& mesh, Mesh::FaceHandle f, const Volume& volume
 // vertex at the midpoint, with `generation`). The new triangles lie inside the
 // old ones, so no split creates an intersection. Returns the number of splits.
 std::size_t split_deviating_faces(Mesh& mesh, const Volume& volume, double threshold, double tolerance_mm,
-                                  double min_edge_mm, int generation);
+                                  double min_edge_mm, int generation, double noise_mm = 0.0);
 
 // True when collapsing h (its from-vertex removed, merged into its to-vertex)
 // keeps a closed 2-manifold of the same genus: OpenMesh's is_collapse_ok and
@@ -41,6 +49,7 @@ bool collapse_keeps_topology(Mesh& mesh, Mesh::HalfedgeHandle h);
 struct CollapseOptions {
   double tolerance = 0.0;         // deviation allowed for the new faces, mm; <= 0: not checked
   double search = 1.5;            // crossing search range for the deviation, mm
+  double noise = 0.0;             // crossing-distance noise discounted from the deviation, mm (face_deviation)
   double min_angle = 15.0;        // quality floor: smallest angle of a new face, degrees (or the
                                   // smallest angle already there, when lower)
   double max_normal_change = 45.0;  // a new face turns at most this much from the old one, degrees

@@ -23,10 +23,14 @@ std::optional<double> find_crossing(const Volume& volume, double threshold, cons
                                     double max_mm, double step_mm);
 
 struct FitOptions {
-  int passes = 4;               // sweeps over the vertices (normals re-estimated each sweep)
+  int passes = 8;               // sweeps over the vertices (normals re-estimated each sweep); stops
+                                // early when a sweep moves no vertex by a hundredth of a voxel
   double max_distance = 1.0;    // a vertex ends at most this far from where the fit found it, voxels
   double search = 1.5;          // crossings are searched this far along the normal, voxels
   int normal_rings = 2;         // rings of faces averaged into the fit direction (section 7)
+  double noise = -1.0;          // crossing-distance noise (estimate_crossing_noise), mm: the part h of a
+                                // vertex's offset beyond its ring's mean is kept as h^2 / (h^2 + noise^2);
+                                // < 0: not kept (the ring's mean only)
   bool prevent_self_intersection = true;  // every move checked by the IntersectionGuard
   int threads = 0;              // workers for the offsets (0 = all cores); the result does not depend on it
 };
@@ -41,8 +45,10 @@ struct FitResult {
 // lies on the threshold crossings on average: per pass, each vertex's offset
 // is the mean signed distance to the crossing from its samples (itself, its
 // faces' centroids, its edges' midpoints), weighted by how much each moves
-// with the vertex; offsets are averaged once with the 1-ring's (noise), then
-// applied in vertex order, each move checked by the IntersectionGuard (a
+// with the vertex; offsets are averaged once with the 1-ring's (noise), the
+// vertex's own part given back in proportion to how far it stands above
+// options.noise (Wiener-like), then applied in vertex order (moves under a
+// hundredth of a voxel skipped), each move checked by the IntersectionGuard (a
 // refused move is retried at half and a quarter length) and kept inside the
 // grid. At the fixed point flat faces sit across a curved surface instead of
 // inside it (no chord bias) and the curvature term's inward pull is gone.
