@@ -45,6 +45,46 @@ Binding real(Accessor<double> field, double lo, double hi) {
           [=](const Options& o) { return json_number(field(const_cast<Options&>(o))); }};
 }
 
+// A real in an interval whose ends may be open: (lo, hi], [lo, hi), ...
+Binding real_interval(Accessor<double> field, double lo, bool lo_open, double hi, bool hi_open) {
+  std::ostringstream range;
+  range << "in " << (lo_open ? "(" : "[") << lo << ", " << hi << (hi_open ? ")" : "]");
+  const std::string text = range.str();
+  return {[=](Options& o, const std::string& v) {
+            const double x = parse_real("", v);
+            const bool above = lo_open ? x > lo : x >= lo;
+            const bool below = hi_open ? x < hi : x <= hi;
+            if (!(above && below)) throw UsageError("must be " + text + ", got " + v);
+            field(o) = x;
+          },
+          [=](const Options& o) { return json_number(field(const_cast<Options&>(o))); }};
+}
+
+// A positive real where inf turns the limit off (rendered "inf" in the report,
+// which the parser reads back).
+Binding positive_or_inf(Accessor<double> field) {
+  return {[=](Options& o, const std::string& v) {
+            const double x = parse_real("", v);
+            if (!(x > 0.0)) throw UsageError("must be > 0 (inf = off), got " + v);
+            field(o) = x;
+          },
+          [=](const Options& o) {
+            const double x = field(const_cast<Options&>(o));
+            return std::isinf(x) ? json_string("inf") : json_number(x);
+          }};
+}
+
+// The error-driven level of detail's tolerance: 0 (off) or in [0.01, 10] voxels.
+Binding lod_tolerance() {
+  return {[](Options& o, const std::string& v) {
+            const double x = parse_real("", v);
+            if (!(x == 0.0 || (x >= 0.01 && x <= 10.0)))
+              throw UsageError("must be 0 (off) or in [0.01, 10] voxels, got " + v);
+            o.deform.lod_tolerance = x;
+          },
+          [](const Options& o) { return json_number(o.deform.lod_tolerance); }};
+}
+
 Binding integer(Accessor<int> field, long lo, long hi) {
   return {[=](Options& o, const std::string& v) {
             const long x = parse_integer("", v);
@@ -233,6 +273,8 @@ std::vector<OptionSpec> make_table() {
       row("--gradient-step", "H", "voxels", model, "central-difference half width of the gradient", real(GDM_FIELD(double, deform.optimizer.gradient_step), 0.01, 1.0)),
       row("--lod", "AREA", "voxels^2", model, "level of detail: faces larger than this are split (Table 2)", real(GDM_FIELD(double, deform.lod_face_area), 0.5, kInf)),
       row("--lod-topology-extent", "on|off", "", model, "floor eq. 3's extent at the level of detail", on_off(GDM_FIELD(bool, deform.lod_topology_extent))),
+      row("--max-topology-ratio", "R", "", model, "hard limit on eq. 3's ratio, against leaks through narrow gaps (inf = off)", positive_or_inf(GDM_FIELD(double, deform.max_topology_ratio))),
+      row("--refinement-travel", "D", "level-of-detail edge lengths", model, "after a global refinement a vertex moves at most this far from where the stage found it (inf = off)", positive_or_inf(GDM_FIELD(double, deform.refinement_travel))),
       row("--refinements", "N", "", model, "global 1-to-4 resamplings, each after a convergence (section 6)", integer(GDM_FIELD(int, deform.global_refinements), 0, 4)),
       row("--max-cycles", "N", "cycles", model, "hard limit on deformation cycles, all stages", integer(GDM_FIELD(int, deform.max_cycles), 1, std::numeric_limits<int>::max())),
       row("--tolerance", "D", "voxels", model, "a vertex counts as moving beyond this", real(GDM_FIELD(double, deform.convergence_tolerance), 0.001, kInf)),
@@ -241,6 +283,13 @@ std::vector<OptionSpec> make_table() {
       row("--improve-triangles", "on|off", "", model, "Delaunay edge flips on nearly flat regions", on_off(GDM_FIELD(bool, deform.improve_triangles))),
       row("--flip-dihedral", "DEG", "degrees", model, "only flip where faces are this close to flat", real(GDM_FIELD(double, deform.flip_max_dihedral), 0.0, 89.9)),
       row("--max-faces", "N", "faces", model, "stop when the model grows past this many faces", count(GDM_FIELD(std::size_t, deform.max_faces), 20)),
+      row("--subvoxel-fit", "on|off", "", model, "after convergence, move every vertex onto the threshold crossing of the trilinear field", on_off(GDM_FIELD(bool, deform.subvoxel_fit))),
+      row("--fit-passes", "N", "", model, "sweeps of the sub-voxel fit, in [1, 20]", integer(GDM_FIELD(int, deform.fit_passes), 1, 20)),
+      row("--fit-max-distance", "D", "voxels", model, "a vertex moves at most this far in the fit, in (0, 4]", real_interval(GDM_FIELD(double, deform.fit_max_distance), 0.0, true, 4.0, false)),
+      row("--lod-tolerance", "E", "voxels", model, "error-driven level of detail: at most this deviation of a face from the threshold surface; splits where the surface leaves the faces, collapses where flat (0 = off, else [0.01, 10])", lod_tolerance()),
+      row("--lod-min-angle", "DEG", "degrees", model, "collapses of the error-driven level of detail keep every angle above this, in [0, 60)", real_interval(GDM_FIELD(double, deform.lod_min_angle), 0.0, false, 60.0, true)),
+      row("--lod-rounds", "N", "rounds", model, "collapse / split / fit rounds of the error-driven level of detail, in [1, 50]", integer(GDM_FIELD(int, deform.lod_rounds), 1, 50)),
+      row("--float-exact", "on|off", "", model, "end with every vertex on a float point, checked by the guard (float outputs stay free of self-intersections)", on_off(GDM_FIELD(bool, deform.float_exact_output))),
       row("--threads", "N", "", model, "worker threads (0 = all cores); the result does not depend on it", integer(GDM_FIELD(int, deform.threads), 0, 1024)),
       row("--output", "FILE", "", out, "mesh file: .ply (binary, vertex generation), .obj, .stl, .off, .vtk (also -o)", text(GDM_FIELD(std::string, output)), "<input name>-gdm.ply"),
       row("--report", "FILE", "", out, "write a JSON report (figures and every parameter) here", text(GDM_FIELD(std::string, report)), "none"),
@@ -385,7 +434,8 @@ std::string help_text(const std::string& program) {
     s << "\n";
   }
   s << "\nOutput files are written to a temporary name and renamed: a failed run leaves none.\n"
-    << "Progress goes to stderr (one line per cycle; updated in place on a terminal).\n\n"
+    << "Progress goes to stderr, one line per cycle (cycle, refinement stage, faces, vertices\n"
+    << "that moved; updated in place on a terminal, none with --quiet).\n\n"
     << "Exit codes:\n"
     << "  0  success\n"
     << "  1  internal error (a bug)\n"

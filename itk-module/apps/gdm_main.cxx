@@ -216,7 +216,7 @@ int run(const Options& options_in, RunRecord& record) {
   ModelResult result;
   try {
     result = run_model(image, deform, seed,
-                       [&](std::size_t cycle, double progress) { printer.cycle(cycle, progress); });
+                       [&](const CycleFigures& c) { printer.cycle(c); });
   } catch (...) {
     printer.finish();
     throw;

@@ -72,8 +72,18 @@ std::string summary_text(const RunRecord& r) {
   const MeshFigures& m = r.mesh;
   std::ostringstream s;
   s << "model: " << m.vertices << " vertices, " << m.faces << " faces, " << r.model.cycles << " cycles ("
-    << r.model.stop_reason << "), " << r.model.refinements << " global refinement(s)\n"
-    << "  closed " << (m.closed ? "yes" : "NO") << ", manifold " << (m.manifold ? "yes" : "NO") << ", genus "
+    << r.model.stop_reason << "), " << r.model.refinements << " global refinement(s)\n";
+  // The final stages, when they did anything.
+  std::string finish;
+  const auto part = [&](std::size_t n, const char* what) {
+    if (n > 0) finish += (finish.empty() ? "" : ", ") + std::to_string(n) + " " + what;
+  };
+  part(r.model.fit_moves, "fit moves");
+  part(r.model.lod_splits, "lod splits");
+  part(r.model.lod_collapses, "lod collapses");
+  part(r.model.float_refused, "vertices not float-exact");
+  if (!finish.empty()) s << "  after convergence: " << finish << "\n";
+  s << "  closed " << (m.closed ? "yes" : "NO") << ", manifold " << (m.manifold ? "yes" : "NO") << ", genus "
     << m.genus << ", components " << m.components << ", self-intersections " << m.self_intersections << "\n"
     << "  volume " << fixed(m.volume_mm3, 1) << " mm^3 = " << fixed(m.volume_mm3 / 1000.0, 3) << " ml, area "
     << fixed(m.area_mm2, 1) << " mm^2\n"
@@ -118,6 +128,10 @@ std::string report_json(const RunRecord& r, const Options& options) {
       .add("rejected_moves", json_number(r.model.rejected_moves))
       .add("flips", json_number(r.model.flips))
       .add("border_vertices", json_number(r.model.border_vertices))
+      .add("fit_moves", json_number(r.model.fit_moves))
+      .add("lod_splits", json_number(r.model.lod_splits))
+      .add("lod_collapses", json_number(r.model.lod_collapses))
+      .add("float_refused", json_number(r.model.float_refused))
       .add("seconds", json_number(r.model.seconds));
 
   const MeshFigures& m = r.mesh;

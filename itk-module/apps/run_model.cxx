@@ -6,6 +6,7 @@
 
 #include "run_model.h"
 
+#include <algorithm>
 #include <chrono>
 #include <unordered_map>
 
@@ -95,6 +96,8 @@ ModelResult run_model(const Image* image, const gdm::DeformOptions& o, const Mod
   filter->SetGradientStep(o.optimizer.gradient_step);
   filter->SetLevelOfDetailFaceArea(o.lod_face_area);
   filter->SetLevelOfDetailTopologyExtent(o.lod_topology_extent);
+  filter->SetMaximumTopologyRatio(o.max_topology_ratio);
+  filter->SetRefinementTravel(o.refinement_travel);
   filter->SetNumberOfGlobalRefinements(static_cast<unsigned int>(o.global_refinements));
   filter->SetMaximumNumberOfCycles(static_cast<unsigned int>(o.max_cycles));
   filter->SetConvergenceTolerance(o.convergence_tolerance);
@@ -103,6 +106,13 @@ ModelResult run_model(const Image* image, const gdm::DeformOptions& o, const Mod
   filter->SetImproveTriangles(o.improve_triangles);
   filter->SetFlipMaximumDihedralAngle(o.flip_max_dihedral);
   filter->SetMaximumNumberOfFaces(static_cast<itk::SizeValueType>(o.max_faces));
+  filter->SetSubvoxelFit(o.subvoxel_fit);
+  filter->SetNumberOfFitPasses(static_cast<unsigned int>(std::max(o.fit_passes, 0)));
+  filter->SetFitMaximumDistance(o.fit_max_distance);
+  filter->SetLevelOfDetailTolerance(o.lod_tolerance);
+  filter->SetLevelOfDetailMinimumAngle(o.lod_min_angle);
+  filter->SetLevelOfDetailRounds(static_cast<unsigned int>(std::max(o.lod_rounds, 0)));
+  filter->SetFloatExactOutput(o.float_exact_output);
   if (o.threads > 0) filter->SetNumberOfWorkUnits(static_cast<itk::ThreadIdType>(o.threads));
 
   MeshType::Pointer seed_mesh;
@@ -117,11 +127,20 @@ ModelResult run_model(const Image* image, const gdm::DeformOptions& o, const Mod
     filter->SetSeedSubdivisionLevel(static_cast<unsigned int>(seed.level));
   }
 
-  std::size_t cycle = 0;
   if (progress) {
+    // The filter's figures of the cycle just done; ITK's own events before the
+    // first cycle (cycle 0) and at the end (progress 1) are not cycles.
     filter->AddObserver(itk::ProgressEvent(), [&](const itk::EventObject&) {
       const double p = filter->GetProgress();
-      if (p < 1.0) progress(++cycle, p);
+      if (filter->GetCurrentCycle() == 0 || p >= 1.0) return;
+      CycleFigures c;
+      c.cycle = filter->GetCurrentCycle();
+      c.stage = filter->GetCurrentStage();
+      c.vertices = filter->GetCurrentNumberOfVertices();
+      c.faces = filter->GetCurrentNumberOfFaces();
+      c.moving = filter->GetCurrentNumberOfMovingVertices();
+      c.progress = p;
+      progress(c);
     });
   }
 
@@ -140,6 +159,10 @@ ModelResult run_model(const Image* image, const gdm::DeformOptions& o, const Mod
   result.stats.rejected_moves = filter->GetNumberOfRejectedMoves();
   result.stats.flips = filter->GetNumberOfFlips();
   result.stats.border_vertices = filter->GetNumberOfBorderVertices();
+  result.stats.fit_moves = filter->GetNumberOfFitMoves();
+  result.stats.lod_splits = filter->GetNumberOfLevelOfDetailSplits();
+  result.stats.lod_collapses = filter->GetNumberOfLevelOfDetailCollapses();
+  result.stats.float_refused = filter->GetNumberOfFloatRefusedVertices();
   return result;
 }
 

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "image_input.h"  // ITK first (see the build notes on Eigen)
+#include "progress.h"
 #include "surface_mesh.h"
 
 #include "gdm/deformer.h"
@@ -27,8 +28,8 @@ struct ModelResult {
   ModelStats stats;
 };
 
-// Called once per deformation cycle with the cycle number and the filter's progress in [0, 1).
-using ProgressCallback = std::function<void(std::size_t cycle, double progress)>;
+// Called once per deformation cycle with the filter's figures of that cycle.
+using ProgressCallback = std::function<void(const CycleFigures&)>;
 
 // Throws ModelError with the filter's message when the run fails.
 ModelResult run_model(const Image* image, const gdm::DeformOptions& options, const ModelSeed& seed,

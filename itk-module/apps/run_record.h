@@ -30,6 +30,10 @@ struct ModelStats {
   std::size_t rejected_moves = 0; // moves vetoed by the self-intersection guard
   std::size_t flips = 0;          // edge flips
   std::size_t border_vertices = 0;  // vertices within a voxel of the volume border (a leak)
+  std::size_t fit_moves = 0;      // vertex moves of the sub-voxel fit (and of the error-driven LOD)
+  std::size_t lod_splits = 0;     // edges split by the error-driven level of detail
+  std::size_t lod_collapses = 0;  // edges collapsed by the error-driven level of detail
+  std::size_t float_refused = 0;  // vertices --float-exact could not move onto a float point
   double seconds = 0.0;           // wall time of the model
 };
 

@@ -110,6 +110,11 @@ operator<<(std::ostream & os, const GeometricallyDeformedModelEnums::Polarity va
  * - LevelOfDetailFaceArea [10 voxel^2, >= 0.5]: faces larger than this are split.
  * - LevelOfDetailTopologyExtent [on]: floor the topology term's extent at the
  *   level of detail.
+ * - MaximumTopologyRatio [0.5, > 0; infinity = off]: hard limit on eq. 3's
+ *   ratio (against leaks through gaps narrower than the level of detail).
+ * - RefinementTravel [0.5, > 0; infinity = off]: after a global refinement a
+ *   vertex moves at most this many level-of-detail edge lengths from where
+ *   the stage found it.
  * - NumberOfGlobalRefinements [1, in [0, 4]]: 1-to-4 resamplings after convergence.
  * - MaximumNumberOfCycles [2000, >= 1], ConvergenceTolerance [0.5 voxel],
  *   ConvergenceWindow [5 cycles]: when to stop.
@@ -129,14 +134,30 @@ operator<<(std::ostream & os, const GeometricallyDeformedModelEnums::Polarity va
  *   self-intersection free kept). LevelOfDetailMinimumAngle [15 degrees, in
  *   [0, 60)] is the triangle-quality floor of collapses,
  *   LevelOfDetailRounds [6, in [1, 50]] the collapse/split/fit rounds.
+ * - FloatExactOutput [on]: end with every vertex on a float-representable
+ *   point, each move checked by the self-intersection guard, so that an
+ *   itk::Mesh<float> (or a float file format) keeps the no-self-intersection
+ *   guarantee.
  * - NumberOfWorkUnits (from ProcessObject): worker threads; the result does not
  *   depend on it.
  *
+ * The numeric parameters of the beyond-the-paper stages (fit, error-driven
+ * level of detail, topology ratio, refinement travel) are not clamped by the
+ * setters: the core checks them and Update() throws with its message.
+ *
  * After Update(), GetStopReason(), GetNumberOfCycles(),
  * GetNumberOfGlobalRefinementsPerformed(), GetNumberOfRejectedMoves(),
- * GetNumberOfFlips() and GetNumberOfBorderVertices() describe the run.
+ * GetNumberOfFlips(), GetNumberOfBorderVertices(), GetNumberOfFitMoves(),
+ * GetNumberOfLevelOfDetailSplits(), GetNumberOfLevelOfDetailCollapses() and
+ * GetNumberOfFloatRefusedVertices() describe the run.
  *
- * Progress is reported once per deformation cycle and ends at 1. Setting
+ * Progress is reported once per deformation cycle and ends at 1. During a
+ * ProgressEvent, GetCurrentCycle(), GetCurrentStage(),
+ * GetCurrentNumberOfVertices(), GetCurrentNumberOfFaces(),
+ * GetCurrentNumberOfMovingVertices(), GetCurrentNumberOfActiveVertices(),
+ * GetCurrentNumberOfSplits() and GetCurrentMeanCost() give the figures of the
+ * cycle just done (the core's CycleReport; all 0 before the first cycle of a
+ * run; after the run, those of its last cycle, before the final fit). Setting
  * AbortGenerateData (e.g. from a progress observer) stops the run at the end
  * of the current cycle and throws itk::ProcessAborted. Invalid input (no
  * threshold, a threshold outside the value range, a seed outside the image or
@@ -284,6 +305,15 @@ public:
   itkGetConstMacro(ImproveTriangles, bool);
   itkBooleanMacro(ImproveTriangles);
 
+  /** Hard limit on eq. 3's ratio against leaks (> 0; infinity turns it off). */
+  itkSetMacro(MaximumTopologyRatio, double);
+  itkGetConstMacro(MaximumTopologyRatio, double);
+
+  /** After a global refinement a vertex moves at most this many level-of-detail
+   * edge lengths from where the stage found it (> 0; infinity turns it off). */
+  itkSetMacro(RefinementTravel, double);
+  itkGetConstMacro(RefinementTravel, double);
+
   /** Sub-voxel final fit onto the threshold crossing (beyond the paper). */
   itkSetMacro(SubvoxelFit, bool);
   itkGetConstMacro(SubvoxelFit, bool);
@@ -309,6 +339,12 @@ public:
   /** Collapse / split / fit rounds of the error-driven level of detail, in [1, 50]. */
   itkSetMacro(LevelOfDetailRounds, unsigned int);
   itkGetConstMacro(LevelOfDetailRounds, unsigned int);
+
+  /** End with every vertex on a float-representable point, each move checked
+   * by the self-intersection guard (float meshes keep the guarantee). */
+  itkSetMacro(FloatExactOutput, bool);
+  itkGetConstMacro(FloatExactOutput, bool);
+  itkBooleanMacro(FloatExactOutput);
 
   /** Only flip where the faces are this close to flat, degrees, in [0, 89.9]. */
   itkSetClampMacro(FlipMaximumDihedralAngle, double, 0.0, 89.9);
@@ -337,6 +373,31 @@ public:
   itkGetConstMacro(NumberOfRejectedMoves, SizeValueType);
   itkGetConstMacro(NumberOfFlips, SizeValueType);
   itkGetConstMacro(NumberOfBorderVertices, SizeValueType);
+  /** Vertex moves of the sub-voxel fit (also those of the error-driven level of detail). */
+  itkGetConstMacro(NumberOfFitMoves, SizeValueType);
+  /** Edges split and collapsed by the error-driven level of detail. */
+  itkGetConstMacro(NumberOfLevelOfDetailSplits, SizeValueType);
+  itkGetConstMacro(NumberOfLevelOfDetailCollapses, SizeValueType);
+  /** Vertices FloatExactOutput could not move safely onto a float point (0 in practice). */
+  itkGetConstMacro(NumberOfFloatRefusedVertices, SizeValueType);
+
+  /** The cycle just done, readable during a ProgressEvent (the core's
+   * CycleReport). Cycle is 1-based, 0 before the first cycle of a run; Stage
+   * counts the global refinements done so far. */
+  itkGetConstMacro(CurrentCycle, SizeValueType);
+  itkGetConstMacro(CurrentStage, SizeValueType);
+  /** Size of the model after the cycle. */
+  itkGetConstMacro(CurrentNumberOfVertices, SizeValueType);
+  itkGetConstMacro(CurrentNumberOfFaces, SizeValueType);
+  /** Vertices that moved in the cycle (the run converges when none moves
+   * beyond ConvergenceTolerance for ConvergenceWindow cycles). */
+  itkGetConstMacro(CurrentNumberOfMovingVertices, SizeValueType);
+  /** Vertices whose cost the cycle evaluated (the active set). */
+  itkGetConstMacro(CurrentNumberOfActiveVertices, SizeValueType);
+  /** Edges split by the cycle's local resampling (level of detail). */
+  itkGetConstMacro(CurrentNumberOfSplits, SizeValueType);
+  /** Mean vertex cost after the cycle. */
+  itkGetConstMacro(CurrentMeanCost, double);
 
   /** The core options assembled from the parameters above. */
   gdm::DeformOptions
@@ -353,6 +414,10 @@ protected:
   GenerateData() override;
 
 private:
+  /** Copies one cycle's report into the Current* members. */
+  void
+  SetCurrentCycleReport(const gdm::CycleReport & report);
+
   double        m_Threshold;
   PolarityEnum  m_Polarity{ PolarityEnum::ObjectBrighter };
   ModeEnum      m_Mode{ ModeEnum::Grow };
@@ -377,12 +442,15 @@ private:
   bool          m_ImproveTriangles;
   double        m_FlipMaximumDihedralAngle;
   SizeValueType m_MaximumNumberOfFaces;
+  double        m_MaximumTopologyRatio;
+  double        m_RefinementTravel;
   bool          m_SubvoxelFit;
   unsigned int  m_NumberOfFitPasses;
   double        m_FitMaximumDistance;
   double        m_LevelOfDetailTolerance;
   double        m_LevelOfDetailMinimumAngle;
   unsigned int  m_LevelOfDetailRounds;
+  bool          m_FloatExactOutput;
   PointType     m_SeedCenter;
   double        m_SeedRadius{ 0.0 };
   unsigned int  m_SeedSubdivisionLevel{ 1 };
@@ -393,6 +461,19 @@ private:
   SizeValueType m_NumberOfRejectedMoves{ 0 };
   SizeValueType m_NumberOfFlips{ 0 };
   SizeValueType m_NumberOfBorderVertices{ 0 };
+  SizeValueType m_NumberOfFitMoves{ 0 };
+  SizeValueType m_NumberOfLevelOfDetailSplits{ 0 };
+  SizeValueType m_NumberOfLevelOfDetailCollapses{ 0 };
+  SizeValueType m_NumberOfFloatRefusedVertices{ 0 };
+
+  SizeValueType m_CurrentCycle{ 0 };
+  SizeValueType m_CurrentStage{ 0 };
+  SizeValueType m_CurrentNumberOfVertices{ 0 };
+  SizeValueType m_CurrentNumberOfFaces{ 0 };
+  SizeValueType m_CurrentNumberOfMovingVertices{ 0 };
+  SizeValueType m_CurrentNumberOfActiveVertices{ 0 };
+  SizeValueType m_CurrentNumberOfSplits{ 0 };
+  double        m_CurrentMeanCost{ 0.0 };
 };
 } // end namespace itk
 

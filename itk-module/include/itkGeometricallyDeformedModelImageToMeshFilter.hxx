@@ -50,12 +50,15 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::Geometric
   m_ImproveTriangles = defaults.improve_triangles;
   m_FlipMaximumDihedralAngle = defaults.flip_max_dihedral;
   m_MaximumNumberOfFaces = static_cast<SizeValueType>(defaults.max_faces);
+  m_MaximumTopologyRatio = defaults.max_topology_ratio;
+  m_RefinementTravel = defaults.refinement_travel;
   m_SubvoxelFit = defaults.subvoxel_fit;
   m_NumberOfFitPasses = static_cast<unsigned int>(defaults.fit_passes);
   m_FitMaximumDistance = defaults.fit_max_distance;
   m_LevelOfDetailTolerance = defaults.lod_tolerance;
   m_LevelOfDetailMinimumAngle = defaults.lod_min_angle;
   m_LevelOfDetailRounds = static_cast<unsigned int>(defaults.lod_rounds);
+  m_FloatExactOutput = defaults.float_exact_output;
   m_SeedCenter.Fill(0.0);
 }
 
@@ -90,13 +93,31 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::GetDeform
   o.flip_max_dihedral = m_FlipMaximumDihedralAngle;
   o.threads = static_cast<int>(this->GetNumberOfWorkUnits());
   o.max_faces = static_cast<std::size_t>(m_MaximumNumberOfFaces);
+  o.max_topology_ratio = m_MaximumTopologyRatio;
+  o.refinement_travel = m_RefinementTravel;
   o.subvoxel_fit = m_SubvoxelFit;
   o.fit_passes = static_cast<int>(std::min<unsigned int>(m_NumberOfFitPasses, 1000000u));
   o.fit_max_distance = m_FitMaximumDistance;
   o.lod_tolerance = m_LevelOfDetailTolerance;
   o.lod_min_angle = m_LevelOfDetailMinimumAngle;
   o.lod_rounds = static_cast<int>(std::min<unsigned int>(m_LevelOfDetailRounds, 1000000u));
+  o.float_exact_output = m_FloatExactOutput;
   return o;
+}
+
+template <typename TInputImage, typename TOutputMesh>
+void
+GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::SetCurrentCycleReport(
+  const gdm::CycleReport & report)
+{
+  m_CurrentCycle = static_cast<SizeValueType>(std::max(report.cycle, 0));
+  m_CurrentStage = static_cast<SizeValueType>(std::max(report.stage, 0));
+  m_CurrentNumberOfVertices = static_cast<SizeValueType>(report.vertices);
+  m_CurrentNumberOfFaces = static_cast<SizeValueType>(report.faces);
+  m_CurrentNumberOfMovingVertices = static_cast<SizeValueType>(report.moved);
+  m_CurrentNumberOfActiveVertices = static_cast<SizeValueType>(report.evaluated);
+  m_CurrentNumberOfSplits = static_cast<SizeValueType>(report.splits);
+  m_CurrentMeanCost = report.mean_cost;
 }
 
 template <typename TInputImage, typename TOutputMesh>
@@ -109,6 +130,11 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::GenerateD
   m_NumberOfRejectedMoves = 0;
   m_NumberOfFlips = 0;
   m_NumberOfBorderVertices = 0;
+  m_NumberOfFitMoves = 0;
+  m_NumberOfLevelOfDetailSplits = 0;
+  m_NumberOfLevelOfDetailCollapses = 0;
+  m_NumberOfFloatRefusedVertices = 0;
+  this->SetCurrentCycleReport(gdm::CycleReport{});
 
   if constexpr (InputImageDimension != 3)
   {
@@ -140,6 +166,8 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::GenerateD
     const gdm::DeformObserver observer = [&](const gdm::CycleReport & report) -> bool {
       try
       {
+        // The cycle's figures, readable by ProgressEvent observers.
+        this->SetCurrentCycleReport(report);
         if (report.stage != stage)
         {
           stage = report.stage;
@@ -193,6 +221,10 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::GenerateD
     m_NumberOfRejectedMoves = static_cast<SizeValueType>(result.rejected_moves);
     m_NumberOfFlips = static_cast<SizeValueType>(result.flips);
     m_NumberOfBorderVertices = static_cast<SizeValueType>(result.border_vertices);
+    m_NumberOfFitMoves = static_cast<SizeValueType>(result.fit_moves);
+    m_NumberOfLevelOfDetailSplits = static_cast<SizeValueType>(result.lod_splits);
+    m_NumberOfLevelOfDetailCollapses = static_cast<SizeValueType>(result.lod_collapses);
+    m_NumberOfFloatRefusedVertices = static_cast<SizeValueType>(result.float_refused);
 
     if (result.reason == gdm::StopReason::cancelled || this->GetAbortGenerateData())
     {
@@ -248,12 +280,15 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::PrintSelf
   os << indent << "ImproveTriangles: " << (m_ImproveTriangles ? "On" : "Off") << std::endl;
   os << indent << "FlipMaximumDihedralAngle: " << m_FlipMaximumDihedralAngle << std::endl;
   os << indent << "MaximumNumberOfFaces: " << m_MaximumNumberOfFaces << std::endl;
+  os << indent << "MaximumTopologyRatio: " << m_MaximumTopologyRatio << std::endl;
+  os << indent << "RefinementTravel: " << m_RefinementTravel << std::endl;
   os << indent << "SubvoxelFit: " << (m_SubvoxelFit ? "On" : "Off") << std::endl;
   os << indent << "NumberOfFitPasses: " << m_NumberOfFitPasses << std::endl;
   os << indent << "FitMaximumDistance: " << m_FitMaximumDistance << std::endl;
   os << indent << "LevelOfDetailTolerance: " << m_LevelOfDetailTolerance << std::endl;
   os << indent << "LevelOfDetailMinimumAngle: " << m_LevelOfDetailMinimumAngle << std::endl;
   os << indent << "LevelOfDetailRounds: " << m_LevelOfDetailRounds << std::endl;
+  os << indent << "FloatExactOutput: " << (m_FloatExactOutput ? "On" : "Off") << std::endl;
   os << indent << "SeedCenter: " << m_SeedCenter << std::endl;
   os << indent << "SeedRadius: " << m_SeedRadius << std::endl;
   os << indent << "SeedSubdivisionLevel: " << m_SeedSubdivisionLevel << std::endl;
@@ -263,6 +298,18 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::PrintSelf
   os << indent << "NumberOfRejectedMoves: " << m_NumberOfRejectedMoves << std::endl;
   os << indent << "NumberOfFlips: " << m_NumberOfFlips << std::endl;
   os << indent << "NumberOfBorderVertices: " << m_NumberOfBorderVertices << std::endl;
+  os << indent << "NumberOfFitMoves: " << m_NumberOfFitMoves << std::endl;
+  os << indent << "NumberOfLevelOfDetailSplits: " << m_NumberOfLevelOfDetailSplits << std::endl;
+  os << indent << "NumberOfLevelOfDetailCollapses: " << m_NumberOfLevelOfDetailCollapses << std::endl;
+  os << indent << "NumberOfFloatRefusedVertices: " << m_NumberOfFloatRefusedVertices << std::endl;
+  os << indent << "CurrentCycle: " << m_CurrentCycle << std::endl;
+  os << indent << "CurrentStage: " << m_CurrentStage << std::endl;
+  os << indent << "CurrentNumberOfVertices: " << m_CurrentNumberOfVertices << std::endl;
+  os << indent << "CurrentNumberOfFaces: " << m_CurrentNumberOfFaces << std::endl;
+  os << indent << "CurrentNumberOfMovingVertices: " << m_CurrentNumberOfMovingVertices << std::endl;
+  os << indent << "CurrentNumberOfActiveVertices: " << m_CurrentNumberOfActiveVertices << std::endl;
+  os << indent << "CurrentNumberOfSplits: " << m_CurrentNumberOfSplits << std::endl;
+  os << indent << "CurrentMeanCost: " << m_CurrentMeanCost << std::endl;
 }
 
 } // end namespace itk

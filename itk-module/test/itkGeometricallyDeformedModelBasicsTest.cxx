@@ -57,6 +57,23 @@ ExerciseBasicsAndSetGet()
   ITK_TEST_SET_GET_VALUE(d.a2, filter->GetTopologyWeight());
   ITK_TEST_SET_GET_VALUE(d.lod_face_area, filter->GetLevelOfDetailFaceArea());
   ITK_TEST_SET_GET_VALUE(static_cast<unsigned int>(d.max_cycles), filter->GetMaximumNumberOfCycles());
+  ITK_TEST_SET_GET_VALUE(d.max_topology_ratio, filter->GetMaximumTopologyRatio());
+  ITK_TEST_SET_GET_VALUE(d.refinement_travel, filter->GetRefinementTravel());
+  ITK_TEST_SET_GET_VALUE(d.subvoxel_fit, filter->GetSubvoxelFit());
+  ITK_TEST_SET_GET_VALUE(static_cast<unsigned int>(d.fit_passes), filter->GetNumberOfFitPasses());
+  ITK_TEST_SET_GET_VALUE(d.fit_max_distance, filter->GetFitMaximumDistance());
+  ITK_TEST_SET_GET_VALUE(d.lod_tolerance, filter->GetLevelOfDetailTolerance());
+  ITK_TEST_SET_GET_VALUE(d.lod_min_angle, filter->GetLevelOfDetailMinimumAngle());
+  ITK_TEST_SET_GET_VALUE(static_cast<unsigned int>(d.lod_rounds), filter->GetLevelOfDetailRounds());
+  ITK_TEST_SET_GET_VALUE(d.float_exact_output, filter->GetFloatExactOutput());
+  // Before a run the results and the current cycle's figures are 0.
+  ITK_TEST_EXPECT_EQUAL(filter->GetNumberOfFitMoves(), 0u);
+  ITK_TEST_EXPECT_EQUAL(filter->GetNumberOfLevelOfDetailSplits(), 0u);
+  ITK_TEST_EXPECT_EQUAL(filter->GetNumberOfLevelOfDetailCollapses(), 0u);
+  ITK_TEST_EXPECT_EQUAL(filter->GetNumberOfFloatRefusedVertices(), 0u);
+  ITK_TEST_EXPECT_EQUAL(filter->GetCurrentCycle(), 0u);
+  ITK_TEST_EXPECT_EQUAL(filter->GetCurrentNumberOfFaces(), 0u);
+  ITK_TEST_EXPECT_EQUAL(filter->GetCurrentNumberOfMovingVertices(), 0u);
 
   filter->SetThreshold(12.5);
   ITK_TEST_SET_GET_VALUE(12.5, filter->GetThreshold());
@@ -114,6 +131,10 @@ ExerciseBasicsAndSetGet()
   ITK_TEST_SET_GET_VALUE(0.1, (filter->SetLevelOfDetailTolerance(0.1), filter->GetLevelOfDetailTolerance()));
   ITK_TEST_SET_GET_VALUE(12.0, (filter->SetLevelOfDetailMinimumAngle(12.0), filter->GetLevelOfDetailMinimumAngle()));
   ITK_TEST_SET_GET_VALUE(3u, (filter->SetLevelOfDetailRounds(3), filter->GetLevelOfDetailRounds()));
+  ITK_TEST_SET_GET_VALUE(0.8, (filter->SetMaximumTopologyRatio(0.8), filter->GetMaximumTopologyRatio()));
+  ITK_TEST_SET_GET_VALUE(1.25, (filter->SetRefinementTravel(1.25), filter->GetRefinementTravel()));
+  ITK_TEST_SET_GET_BOOLEAN(filter, FloatExactOutput, true);
+  filter->FloatExactOutputOff();
   FilterType::PointType center;
   center[0] = 1.0;
   center[1] = -2.0;
@@ -138,7 +159,8 @@ ExerciseBasicsAndSetGet()
       o.global_refinements != 0 || o.max_cycles != 300 || o.convergence_tolerance != 0.3 ||
       o.convergence_window != 8 || o.flip_max_dihedral != 15.0 || o.max_faces != 5000 || o.threads != 2 ||
       o.subvoxel_fit || o.fit_passes != 6 || o.fit_max_distance != 0.75 || o.lod_tolerance != 0.1 ||
-      o.lod_min_angle != 12.0 || o.lod_rounds != 3)
+      o.lod_min_angle != 12.0 || o.lod_rounds != 3 || o.max_topology_ratio != 0.8 || o.refinement_travel != 1.25 ||
+      o.float_exact_output)
   {
     std::cerr << "GetDeformOptions does not follow the parameters" << std::endl;
     return EXIT_FAILURE;
@@ -154,9 +176,13 @@ ExerciseBasicsAndSetGet()
          "MaximumNumberOfCycles", "ConvergenceTolerance", "ConvergenceWindow", "PreventSelfIntersection",
          "ImproveTriangles", "FlipMaximumDihedralAngle", "MaximumNumberOfFaces", "SubvoxelFit", "NumberOfFitPasses",
          "FitMaximumDistance", "LevelOfDetailTolerance", "LevelOfDetailMinimumAngle", "LevelOfDetailRounds",
-         "SeedCenter", "SeedRadius",
+         "MaximumTopologyRatio", "RefinementTravel", "FloatExactOutput", "SeedCenter", "SeedRadius",
          "SeedSubdivisionLevel", "StopReason", "NumberOfCycles", "NumberOfGlobalRefinementsPerformed",
-         "NumberOfRejectedMoves", "NumberOfFlips", "NumberOfBorderVertices" })
+         "NumberOfRejectedMoves", "NumberOfFlips", "NumberOfBorderVertices", "NumberOfFitMoves",
+         "NumberOfLevelOfDetailSplits", "NumberOfLevelOfDetailCollapses", "NumberOfFloatRefusedVertices",
+         "CurrentCycle", "CurrentStage", "CurrentNumberOfVertices", "CurrentNumberOfFaces",
+         "CurrentNumberOfMovingVertices", "CurrentNumberOfActiveVertices", "CurrentNumberOfSplits",
+         "CurrentMeanCost" })
   {
     if (printed.str().find(std::string(name) + ":") == std::string::npos)
     {
