@@ -75,6 +75,8 @@ struct Method {
 std::vector<Method> methods() {
   return {
       {"gdm", "our GDM (defaults)", "our GDM", Kind::gdm},
+      {"gdm-lod", "our GDM, error-driven level of detail 0.1 voxel", "our GDM (error LOD)", Kind::gdm,
+       [](gdm::DeformOptions& o) { o.lod_tolerance = 0.1; }},
       {"fe", "VTK flying edges", "flying edges", Kind::flying_edges},
       {"slicer", "Slicer chain (FE + sinc + quadric, to our faces)", "Slicer chain", Kind::slicer_chain},
       {"itk-mc", "ITK BinaryMask3DMeshSource", "ITK mask MC", Kind::itk_binary_mask},
