@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "gdm/cell_hash.h"
 #include "gdm/predicates.h"
 #include "gdm/surface_fit.h"
 
@@ -198,11 +199,10 @@ CollapseChecker::CollapseChecker(const Mesh& mesh, double cell_size) : mesh_(&me
 void CollapseChecker::insert(int face) {
   const Tri t = face_tri(*mesh_, Mesh::FaceHandle(face));
   const Vec3 lo = t.p[0].cwiseMin(t.p[1]).cwiseMin(t.p[2]), hi = t.p[0].cwiseMax(t.p[1]).cwiseMax(t.p[2]);
-  const auto cell = [&](double x) { return static_cast<long long>(std::floor(x / cell_)); };
-  for (long long x = cell(lo.x()); x <= cell(hi.x()); ++x)
-    for (long long y = cell(lo.y()); y <= cell(hi.y()); ++y)
-      for (long long z = cell(lo.z()); z <= cell(hi.z()); ++z)
-        cells_[(x * 73856093LL) ^ (y * 19349663LL) ^ (z * 83492791LL)].push_back(face);
+  const auto a = cell_of(lo, cell_), b = cell_of(hi, cell_);
+  for (int x = a[0]; x <= b[0]; ++x)
+    for (int y = a[1]; y <= b[1]; ++y)
+      for (int z = a[2]; z <= b[2]; ++z) cells_[cell_key(x, y, z)].push_back(face);
 }
 
 template <class Visit>
@@ -212,11 +212,11 @@ void CollapseChecker::for_each_near(const Vec3& lo, const Vec3& hi, Visit&& visi
     std::fill(stamp_.begin(), stamp_.end(), 0);
     current_ = 1;
   }
-  const auto cell = [&](double x) { return static_cast<long long>(std::floor(x / cell_)); };
-  for (long long x = cell(lo.x()); x <= cell(hi.x()); ++x)
-    for (long long y = cell(lo.y()); y <= cell(hi.y()); ++y)
-      for (long long z = cell(lo.z()); z <= cell(hi.z()); ++z) {
-        const auto it = cells_.find((x * 73856093LL) ^ (y * 19349663LL) ^ (z * 83492791LL));
+  const auto a = cell_of(lo, cell_), b = cell_of(hi, cell_);
+  for (int x = a[0]; x <= b[0]; ++x)
+    for (int y = a[1]; y <= b[1]; ++y)
+      for (int z = a[2]; z <= b[2]; ++z) {
+        const auto it = cells_.find(cell_key(x, y, z));
         if (it == cells_.end()) continue;
         for (int f : it->second) {
           if (stamp_[f] == current_) continue;

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <unordered_map>
 #include <vector>
 
@@ -73,7 +74,7 @@ class CollapseChecker {
 
   const Mesh* mesh_;
   double cell_;
-  std::unordered_map<long long, std::vector<int>> cells_;
+  std::unordered_map<std::uint64_t, std::vector<int>> cells_;  // by cell_key (cell_hash.h)
   std::vector<unsigned> stamp_;
   unsigned current_ = 0;
 };
