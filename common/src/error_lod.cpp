@@ -7,6 +7,7 @@
 
 #include "gdm/cell_hash.h"
 #include "gdm/predicates.h"
+#include "gdm/resampler.h"
 #include "gdm/surface_fit.h"
 
 namespace gdm {
@@ -138,38 +139,14 @@ double estimate_crossing_noise(const Mesh& mesh, const Volume& volume, double th
 
 std::size_t split_deviating_faces(Mesh& mesh, const Volume& volume, double threshold, double tolerance_mm,
                                   double min_edge_mm, int generation, double noise_mm) {
-  const auto gen = generation_property(mesh);
   const double search = std::max(3.0 * tolerance_mm, 1.5 * volume.voxel_size());
-  std::vector<char> marked(mesh.n_edges(), 0);
-  std::vector<std::pair<Mesh::VertexHandle, Mesh::VertexHandle>> to_split;
-  for (auto f : mesh.faces()) {
-    Mesh::HalfedgeHandle longest;
-    double best = -1.0;
-    for (auto h : mesh.fh_range(f)) {
-      const double len = (pos(mesh, mesh.to_vertex_handle(h)) - pos(mesh, mesh.from_vertex_handle(h))).norm();
-      if (len > best) {
-        best = len;
-        longest = h;
-      }
-    }
-    if (best <= min_edge_mm) continue;
-    const auto e = mesh.edge_handle(longest);
-    if (marked[e.idx()]) continue;
+  return split_longest_edges(mesh, generation, [&](Mesh::FaceHandle f, Mesh::HalfedgeHandle longest) {
+    if (mesh.calc_edge_length(longest) <= min_edge_mm) return false;
     // A face with no crossing within reach is not near the surface (a part
     // the deformation did not reach): not the level of detail's business.
     const double deviation = face_deviation(mesh, f, volume, threshold, search, noise_mm);
-    if (deviation <= tolerance_mm || !std::isfinite(deviation)) continue;
-    marked[e.idx()] = 1;
-    to_split.emplace_back(mesh.from_vertex_handle(longest), mesh.to_vertex_handle(longest));
-  }
-  for (const auto& [a, b] : to_split) {
-    const auto h = mesh.find_halfedge(a, b);
-    if (!h.is_valid()) continue;
-    const auto mid = mesh.add_vertex(to_point(0.5 * (pos(mesh, a) + pos(mesh, b))));
-    mesh.property(gen, mid) = generation;
-    mesh.split(mesh.edge_handle(h), mid);
-  }
-  return to_split.size();
+    return deviation > tolerance_mm && std::isfinite(deviation);
+  });
 }
 
 bool collapse_keeps_topology(Mesh& mesh, Mesh::HalfedgeHandle h) {

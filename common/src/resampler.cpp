@@ -23,12 +23,11 @@ double angle_at(const Vec3& apex, const Vec3& p, const Vec3& q) {
 
 }  // namespace
 
-std::size_t split_large_faces(Mesh& mesh, double max_face_area, int generation) {
+std::size_t split_longest_edges(Mesh& mesh, int generation, const SplitSelect& select) {
   const auto gen = generation_property(mesh);
   std::vector<char> marked(mesh.n_edges(), 0);
   std::vector<std::pair<Mesh::VertexHandle, Mesh::VertexHandle>> to_split;
   for (auto f : mesh.faces()) {
-    if (face_area(mesh, f) <= max_face_area) continue;
     Mesh::HalfedgeHandle longest;
     double best = -1.0;
     for (auto h : mesh.fh_range(f)) {
@@ -39,7 +38,7 @@ std::size_t split_large_faces(Mesh& mesh, double max_face_area, int generation) 
       }
     }
     const auto e = mesh.edge_handle(longest);
-    if (marked[e.idx()]) continue;
+    if (marked[e.idx()] || !select(f, longest)) continue;
     marked[e.idx()] = 1;
     to_split.emplace_back(mesh.from_vertex_handle(longest), mesh.to_vertex_handle(longest));
   }
@@ -52,6 +51,12 @@ std::size_t split_large_faces(Mesh& mesh, double max_face_area, int generation) 
     mesh.split(mesh.edge_handle(h), mid);
   }
   return to_split.size();
+}
+
+std::size_t split_large_faces(Mesh& mesh, double max_face_area, int generation) {
+  return split_longest_edges(mesh, generation, [&](Mesh::FaceHandle f, Mesh::HalfedgeHandle) {
+    return face_area(mesh, f) > max_face_area;
+  });
 }
 
 void subdivide_all(Mesh& mesh, int generation) {

@@ -19,6 +19,13 @@ namespace gdm {
 // intersection.
 std::size_t split_large_faces(Mesh& mesh, double max_face_area, int generation);
 
+// The mechanism under split_large_faces (and the error-driven level of
+// detail's splits): in one pass, the longest edge of every face that
+// `select(face, longest halfedge)` accepts is split at its midpoint (each edge
+// at most once; new vertices get `generation`). Returns the number of splits.
+using SplitSelect = std::function<bool(Mesh::FaceHandle, Mesh::HalfedgeHandle)>;
+std::size_t split_longest_edges(Mesh& mesh, int generation, const SplitSelect& select);
+
 // Global resampling (Fig. 5): every face becomes four by joining the edge
 // midpoints. V, E, F become V + E, 2E + 3F, 4F. New vertices get `generation`.
 void subdivide_all(Mesh& mesh, int generation);
