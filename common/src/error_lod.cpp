@@ -5,7 +5,6 @@
 #include <cmath>
 #include <limits>
 
-#include "gdm/cell_hash.h"
 #include "gdm/predicates.h"
 #include "gdm/resampler.h"
 #include "gdm/surface_fit.h"
@@ -169,42 +168,12 @@ bool collapse_keeps_topology(Mesh& mesh, Mesh::HalfedgeHandle h) {
   return mesh.valence(a) > 3 && mesh.valence(b) > 3 && mesh.valence(v0) + mesh.valence(v1) >= 7;
 }
 
-CollapseChecker::CollapseChecker(const Mesh& mesh, double cell_size) : mesh_(&mesh), cell_(cell_size) {
-  for (auto f : mesh.faces()) insert(f.idx());
-}
-
-void CollapseChecker::insert(int face) {
-  const Tri t = face_tri(*mesh_, Mesh::FaceHandle(face));
-  const Vec3 lo = t.p[0].cwiseMin(t.p[1]).cwiseMin(t.p[2]), hi = t.p[0].cwiseMax(t.p[1]).cwiseMax(t.p[2]);
-  const auto a = cell_of(lo, cell_), b = cell_of(hi, cell_);
-  for (int x = a[0]; x <= b[0]; ++x)
-    for (int y = a[1]; y <= b[1]; ++y)
-      for (int z = a[2]; z <= b[2]; ++z) cells_[cell_key(x, y, z)].push_back(face);
-}
-
-template <class Visit>
-void CollapseChecker::for_each_near(const Vec3& lo, const Vec3& hi, Visit&& visit) {
-  if (stamp_.size() < mesh_->n_faces()) stamp_.resize(mesh_->n_faces(), 0);
-  if (++current_ == 0) {
-    std::fill(stamp_.begin(), stamp_.end(), 0);
-    current_ = 1;
-  }
-  const auto a = cell_of(lo, cell_), b = cell_of(hi, cell_);
-  for (int x = a[0]; x <= b[0]; ++x)
-    for (int y = a[1]; y <= b[1]; ++y)
-      for (int z = a[2]; z <= b[2]; ++z) {
-        const auto it = cells_.find(cell_key(x, y, z));
-        if (it == cells_.end()) continue;
-        for (int f : it->second) {
-          if (stamp_[f] == current_) continue;
-          stamp_[f] = current_;
-          visit(f);
-        }
-      }
+CollapseChecker::CollapseChecker(const Mesh& mesh, double cell_size) : mesh_(&mesh) {
+  grid_.rebuild(mesh, cell_size, 0.0);
 }
 
 void CollapseChecker::note_vertex(Mesh::VertexHandle v) {
-  for (auto f : mesh_->vf_range(v)) insert(f.idx());
+  for (auto f : mesh_->vf_range(v)) grid_.insert(*mesh_, f);
 }
 
 bool CollapseChecker::geometry_ok(Mesh::HalfedgeHandle h, const CollapseOptions& o) {
@@ -231,7 +200,7 @@ bool CollapseChecker::geometry_ok(Mesh::HalfedgeHandle h, const CollapseOptions&
   for (const Tri& t : created) {
     const Vec3 lo = t.p[0].cwiseMin(t.p[1]).cwiseMin(t.p[2]), hi = t.p[0].cwiseMax(t.p[1]).cwiseMax(t.p[2]);
     bool clear = true;
-    for_each_near(lo, hi, [&](int g) {
+    grid_.for_each_near(lo, hi, [&](int g) {
       const Mesh::FaceHandle fg(g);
       if (!clear || (mesh.has_face_status() && mesh.status(fg).deleted()) || fg == gone0 || fg == gone1) return;
       const Tri other = face_tri(mesh, fg, v0.idx(), v1.idx(), p1);

@@ -7,10 +7,9 @@
 #pragma once
 
 #include <cstddef>
-#include <cstdint>
-#include <unordered_map>
 #include <vector>
 
+#include "gdm/intersection_guard.h"
 #include "gdm/mesh.h"
 #include "gdm/volume.h"
 
@@ -68,15 +67,8 @@ class CollapseChecker {
   void note_vertex(Mesh::VertexHandle v);
 
  private:
-  void insert(int face);
-  template <class Visit>
-  void for_each_near(const Vec3& lo, const Vec3& hi, Visit&& visit);
-
   const Mesh* mesh_;
-  double cell_;
-  std::unordered_map<std::uint64_t, std::vector<int>> cells_;  // by cell_key (cell_hash.h)
-  std::vector<unsigned> stamp_;
-  unsigned current_ = 0;
+  FaceGrid grid_;  // the intersection guard's grid, without a margin
 };
 
 // One pass of collapses, shortest edges first, each one checked by

@@ -3,6 +3,7 @@
 // with exact predicates before it is applied.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <unordered_map>
@@ -38,6 +39,27 @@ class FaceGrid {
   std::vector<std::uint32_t> stamp_;
   std::uint32_t current_stamp_ = 0;
 };
+
+template <class Visit>
+inline void FaceGrid::for_each_near(const Vec3& lo, const Vec3& hi, Visit&& visit) {
+  if (++current_stamp_ == 0) {
+    std::fill(stamp_.begin(), stamp_.end(), 0);
+    current_stamp_ = 1;
+  }
+  const auto a = cell_of(lo), b = cell_of(hi);
+  for (int x = a[0]; x <= b[0]; ++x)
+    for (int y = a[1]; y <= b[1]; ++y)
+      for (int z = a[2]; z <= b[2]; ++z) {
+        const auto it = cells_.find(key(x, y, z));
+        if (it == cells_.end()) continue;
+        for (int f : it->second) {
+          if (stamp_[f] == current_stamp_) continue;
+          stamp_[f] = current_stamp_;
+          if ((box_lo_[f].array() > hi.array()).any() || (box_hi_[f].array() < lo.array()).any()) continue;
+          visit(f);
+        }
+      }
+}
 
 struct GuardStatistics {
   std::size_t rejected_moves = 0;  // moves vetoed for an intersection or a degenerate face
