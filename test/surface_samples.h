@@ -34,15 +34,7 @@ inline phantoms::DistanceStats surface_distances(const Mesh& mesh,
                                                  double voxel_size) {
   std::vector<double> d;
   for (const Vec3& p : surface_samples(mesh)) d.push_back(std::abs(distance(p)) / voxel_size);
-  phantoms::DistanceStats s;
-  if (d.empty()) return s;
-  double sum = 0.0;
-  for (double x : d) sum += x;
-  s.mean = sum / static_cast<double>(d.size());
-  std::sort(d.begin(), d.end());
-  s.p95 = d[static_cast<std::size_t>(0.95 * static_cast<double>(d.size() - 1))];
-  s.max = d.back();
-  return s;
+  return phantoms::distance_stats(std::move(d));
 }
 
 }  // namespace gdm::test

@@ -135,6 +135,10 @@ DistanceStats vertex_distances(const Mesh& mesh, const std::function<double(cons
     if (include && !include(p)) continue;
     d.push_back(std::abs(distance(p)) / voxel_size);
   }
+  return distance_stats(std::move(d));
+}
+
+DistanceStats distance_stats(std::vector<double> d) {
   DistanceStats s;
   if (d.empty()) return s;
   double sum = 0.0;

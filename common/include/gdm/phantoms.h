@@ -59,6 +59,8 @@ struct DistanceStats {
 };
 DistanceStats vertex_distances(const Mesh& mesh, const std::function<double(const Vec3&)>& distance,
                                double voxel_size, const std::function<bool(const Vec3&)>& include = {});
+// Mean, 95th percentile and maximum of distances already in voxels.
+DistanceStats distance_stats(std::vector<double> distances);
 
 // The number of triangles classic marching cubes produces on the volume at
 // the threshold (each cell's polygons, k corners giving k - 2 triangles;
