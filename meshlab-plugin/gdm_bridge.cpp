@@ -293,11 +293,11 @@ gdm::Mesh shrink_wrap(const std::vector<Triangle>& input, const WrapParams& w, c
     for (auto v : mesh.fv_range(f)) t[k++] = gdm::to_eigen(mesh.point(v));
     wrap_triangles.push_back(t);
   }
-  const TriangleLocator to_wrap(std::move(wrap_triangles));
+  const gdm::TriangleLocator to_wrap(std::move(wrap_triangles));
   double input_to_wrap = 0.0;
   for (const auto& t : input)
     for (const auto& p : t) input_to_wrap = std::max(input_to_wrap, to_wrap.distance(p));
-  const TriangleLocator to_input(input);
+  const gdm::TriangleLocator to_input(input);
   double wrap_to_input = 0.0;
   for (auto v : mesh.vertices()) wrap_to_input = std::max(wrap_to_input, to_input.distance(gdm::to_eigen(mesh.point(v))));
   log->push_back("wrap: " + std::to_string(report.faces) + " faces, " + std::to_string(report.vertices) +

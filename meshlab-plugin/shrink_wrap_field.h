@@ -8,15 +8,12 @@
 #include <vector>
 
 #include "gdm/mesh.h"
+#include "gdm/triangle_locator.h"
 #include "gdm/volume.h"
 
 namespace gdm_meshlab {
 
-using Triangle = std::array<gdm::Vec3, 3>;
-
-// Distance from p to the closest point of triangle t (degenerate triangles,
-// down to single points, are handled).
-double point_triangle_distance(const gdm::Vec3& p, const Triangle& t);
+using Triangle = gdm::Triangle;
 
 struct WrapFieldOptions {
   double cell_size = 1.0;    // grid spacing, mm
@@ -37,22 +34,6 @@ gdm::Volume make_wrap_field(const std::vector<Triangle>& triangles, const gdm::V
 }  // namespace gdm_meshlab
 
 namespace gdm_meshlab {
-
-// Exact nearest-distance queries to a triangle soup through a uniform grid of
-// buckets; used to report (and test) how far the input lies from a wrap.
-class TriangleLocator {
- public:
-  explicit TriangleLocator(std::vector<Triangle> triangles);
-  // Distance from p to the nearest triangle; infinity when there are none.
-  double distance(const gdm::Vec3& p) const;
-
- private:
-  std::vector<Triangle> triangles_;
-  gdm::Vec3 origin_ = gdm::Vec3::Zero();
-  double bucket_ = 1.0;
-  std::array<int, 3> n_{1, 1, 1};
-  std::vector<std::vector<int>> buckets_;
-};
 
 // Separable Gaussian smoothing of a volume, sigma in mm (per axis in voxels
 // sigma / spacing); sigma <= 0 returns the volume unchanged.

@@ -7,32 +7,6 @@
 
 namespace gdm::test {
 
-namespace {
-
-// Closest point on triangle abc to p (the Voronoi-region walk of Ericson,
-// Real-Time Collision Detection, section 5.1.5).
-Vec3 closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0.0 && d2 <= 0.0) return a;
-  const Vec3 bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0.0 && d4 <= d3) return b;
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) return a + ab * (d1 / (d1 - d3));
-  const Vec3 cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0.0 && d5 <= d6) return c;
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return a + ac * (d2 / (d2 - d6));
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0) return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
-  const double denom = 1.0 / (va + vb + vc);
-  return a + ab * (vb * denom) + ac * (vc * denom);
-}
-
-}  // namespace
-
 std::vector<Triangle> marching_cubes(const Volume& volume, double threshold) {
   static const int edge_corner[12][2] = {{0, 1}, {2, 3}, {4, 5}, {6, 7}, {0, 2}, {1, 3},
                                          {4, 6}, {5, 7}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
@@ -105,50 +79,6 @@ std::vector<Triangle> marching_cubes(const Volume& volume, double threshold) {
         }
       }
   return out;
-}
-
-TriangleDistance::TriangleDistance(std::vector<Triangle> triangles, double cell)
-    : triangles_(std::move(triangles)), cell_(cell) {
-  for (std::size_t t = 0; t < triangles_.size(); ++t) {
-    Vec3 lo = triangles_[t][0], hi = lo;
-    for (const auto& v : triangles_[t]) {
-      lo = lo.cwiseMin(v);
-      hi = hi.cwiseMax(v);
-    }
-    const auto l = key(lo), h = key(hi);
-    for (long i = l[0]; i <= h[0]; ++i)
-      for (long j = l[1]; j <= h[1]; ++j)
-        for (long k = l[2]; k <= h[2]; ++k) grid_[hash(i, j, k)].push_back(static_cast<int>(t));
-  }
-}
-
-std::array<long, 3> TriangleDistance::key(const Vec3& p) const {
-  return {static_cast<long>(std::floor(p.x() / cell_)), static_cast<long>(std::floor(p.y() / cell_)),
-          static_cast<long>(std::floor(p.z() / cell_))};
-}
-
-long long TriangleDistance::hash(long i, long j, long k) {
-  return (static_cast<long long>(i) + 1048576) + 2097152LL * ((j + 1048576) + 2097152LL * (k + 1048576));
-}
-
-double TriangleDistance::operator()(const Vec3& p) const {
-  const auto c = key(p);
-  double best = std::numeric_limits<double>::infinity();
-  for (long ring = 0; ring < 256; ++ring) {
-    for (long i = c[0] - ring; i <= c[0] + ring; ++i)
-      for (long j = c[1] - ring; j <= c[1] + ring; ++j)
-        for (long k = c[2] - ring; k <= c[2] + ring; ++k) {
-          if (std::max({std::labs(i - c[0]), std::labs(j - c[1]), std::labs(k - c[2])}) != ring) continue;
-          const auto found = grid_.find(hash(i, j, k));
-          if (found == grid_.end()) continue;
-          for (int t : found->second) {
-            const auto& tri = triangles_[t];
-            best = std::min(best, (closest_on_triangle(p, tri[0], tri[1], tri[2]) - p).norm());
-          }
-        }
-    if (best <= static_cast<double>(ring) * cell_) break;
-  }
-  return best;
 }
 
 }  // namespace gdm::test

@@ -351,11 +351,11 @@ TEST(ErrorLod, tooth_pulp_against_marching_cubes) {
   auto triangles = test::marching_cubes(pulp_volume, kToothThreshold);
   const std::size_t mc_faces = triangles.size();
   ASSERT_EQ(mc_faces, ph::marching_cubes_triangle_count(pulp_volume, kToothThreshold));
-  const test::TriangleDistance distance(std::move(triangles), 2.0 * volume.voxel_size());
+  const TriangleLocator mc_surface(std::move(triangles));
   double sum = 0.0, worst = 0.0;
   const auto samples = test::surface_samples(mesh);
   for (const Vec3& p : samples) {
-    const double e = distance(p) / volume.voxel_size();
+    const double e = mc_surface.distance(p) / volume.voxel_size();
     sum += e;
     worst = std::max(worst, e);
   }

@@ -6,7 +6,6 @@
 #include <cmath>
 #include <deque>
 #include <iostream>
-#include <unordered_map>
 #include <vector>
 
 #include "gtest/gtest.h"
@@ -20,6 +19,7 @@
 
 #include "gdm/mesh_checks.h"
 #include "gdm/phantoms.h"
+#include "gdm/triangle_locator.h"
 
 namespace
 {
@@ -28,105 +28,6 @@ using MeshType = itk::Mesh<float, 3>;
 using Vec3 = gdm::Vec3;
 
 constexpr double kThreshold = 115.0;
-
-// Closest point on triangle abc to p (Ericson, Real-Time Collision Detection, 5.1.5).
-Vec3
-ClosestPointOnTriangle(const Vec3 & p, const Vec3 & a, const Vec3 & b, const Vec3 & c)
-{
-  const Vec3   ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0.0 && d2 <= 0.0)
-    return a;
-  const Vec3   bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0.0 && d4 <= d3)
-    return b;
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0)
-    return a + ab * (d1 / (d1 - d3));
-  const Vec3   cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0.0 && d5 <= d6)
-    return c;
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0)
-    return a + ac * (d2 / (d2 - d6));
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0)
-    return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
-  const double denom = 1.0 / (va + vb + vc);
-  return a + ab * (vb * denom) + ac * (vc * denom);
-}
-
-// Unsigned distance from points to a triangle soup, with a uniform grid.
-class TriangleDistance
-{
-public:
-  TriangleDistance(std::vector<std::array<Vec3, 3>> triangles, double cell)
-    : m_Triangles(std::move(triangles))
-    , m_Cell(cell)
-  {
-    for (std::size_t t = 0; t < m_Triangles.size(); ++t)
-    {
-      Vec3 lo = m_Triangles[t][0], hi = lo;
-      for (const auto & v : m_Triangles[t])
-      {
-        lo = lo.cwiseMin(v);
-        hi = hi.cwiseMax(v);
-      }
-      const auto l = Key(lo), h = Key(hi);
-      for (long i = l[0]; i <= h[0]; ++i)
-        for (long j = l[1]; j <= h[1]; ++j)
-          for (long k = l[2]; k <= h[2]; ++k)
-            m_Grid[Hash({ i, j, k })].push_back(t);
-    }
-  }
-
-  double
-  operator()(const Vec3 & p) const
-  {
-    const auto c = Key(p);
-    double     best = std::numeric_limits<double>::infinity();
-    for (long ring = 0; ring < 64; ++ring)
-    {
-      for (long i = c[0] - ring; i <= c[0] + ring; ++i)
-        for (long j = c[1] - ring; j <= c[1] + ring; ++j)
-          for (long k = c[2] - ring; k <= c[2] + ring; ++k)
-          {
-            if (std::max({ std::labs(i - c[0]), std::labs(j - c[1]), std::labs(k - c[2]) }) != ring)
-              continue;
-            const auto found = m_Grid.find(Hash({ i, j, k }));
-            if (found == m_Grid.end())
-              continue;
-            for (auto t : found->second)
-            {
-              const auto & tri = m_Triangles[t];
-              best = std::min(best, (ClosestPointOnTriangle(p, tri[0], tri[1], tri[2]) - p).norm());
-            }
-          }
-      if (best <= ring * m_Cell)
-        break;
-    }
-    return best;
-  }
-
-private:
-  std::array<long, 3>
-  Key(const Vec3 & p) const
-  {
-    return { static_cast<long>(std::floor(p.x() / m_Cell)), static_cast<long>(std::floor(p.y() / m_Cell)),
-             static_cast<long>(std::floor(p.z() / m_Cell)) };
-  }
-  static long
-  Hash(const std::array<long, 3> & k)
-  {
-    return (k[0] + 4096) + 8192 * ((k[1] + 4096) + 8192 * (k[2] + 4096));
-  }
-
-  std::vector<std::array<Vec3, 3>>                   m_Triangles;
-  double                                             m_Cell;
-  std::unordered_map<long, std::vector<std::size_t>> m_Grid;
-};
 
 } // namespace
 
@@ -267,11 +168,11 @@ TEST(itkGDMTooth, PulpChamberAgainstMarchingCubes)
   const std::size_t mcFaces = gdm::phantoms::marching_cubes_triangle_count(maskedVolume, kThreshold);
 
   const double           voxel = maskedVolume.voxel_size();
-  const TriangleDistance distance(std::move(triangles), 2.0 * voxel);
+  const gdm::TriangleLocator mcSurface(std::move(triangles));
   double                 mean = 0.0, worst = 0.0;
   for (auto v : mesh.vertices())
   {
-    const double d = distance(gdm::to_eigen(mesh.point(v))) / voxel;
+    const double d = mcSurface.distance(gdm::to_eigen(mesh.point(v))) / voxel;
     mean += d;
     worst = std::max(worst, d);
   }

@@ -163,7 +163,7 @@ int check(int argc, char** argv) {
       const double tol = std::atof(argv[++i]);
       gdm::Mesh input;
       if (!OpenMesh::IO::read_mesh(input, input_path)) { expect(false, "read " + input_path); continue; }
-      const gdm_meshlab::TriangleLocator wrap(soup(mesh));
+      const gdm::TriangleLocator wrap(soup(mesh));
       double worst = 0.0;
       for (auto v : input.vertices()) worst = std::max(worst, wrap.distance(gdm::to_eigen(input.point(v))));
       char buf[200];
