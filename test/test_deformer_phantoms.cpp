@@ -8,6 +8,7 @@
 #include "gdm/mesh_checks.h"
 #include "gdm/phantoms.h"
 #include "gdm/seed.h"
+#include "mesh_expectations.h"
 
 using namespace gdm;
 namespace ph = gdm::phantoms;
@@ -23,17 +24,6 @@ DeformOptions default_options() {
   return o;
 }
 
-// Every guarantee of the output, asserted together.
-void expect_valid_closed_surface(const Mesh& mesh) {
-  const MeshReport r = measure(mesh);
-  EXPECT_TRUE(r.closed) << to_string(r);
-  EXPECT_TRUE(r.two_manifold) << to_string(r);
-  EXPECT_EQ(r.genus, 0) << to_string(r);
-  EXPECT_EQ(r.components, 1) << to_string(r);
-  EXPECT_EQ(r.self_intersections, 0u) << to_string(r);
-  EXPECT_GT(r.volume, 0.0) << to_string(r);
-}
-
 }  // namespace
 
 TEST(DeformPhantom, sphere_is_found_within_a_quarter_voxel) {
@@ -45,7 +35,7 @@ TEST(DeformPhantom, sphere_is_found_within_a_quarter_voxel) {
   const DeformResult result = deform(mesh, volume, default_options());
   EXPECT_EQ(result.reason, StopReason::converged);
   EXPECT_EQ(result.global_refinements, 1);
-  expect_valid_closed_surface(mesh);
+  test::expect_valid_closed_surface(mesh);
   const auto d = ph::vertex_distances(mesh, sdf, volume.voxel_size());
   EXPECT_LE(d.mean, 0.25);
   EXPECT_LE(d.max, 1.0);
@@ -62,7 +52,7 @@ TEST(DeformPhantom, ellipsoid_with_anisotropic_spacing_and_rotated_axes) {
   const Volume volume = ph::voxelize(grid, ph::ellipsoid(c, radii), kBackground, kContrast);
   Mesh mesh = make_icosahedron(c, 3.0);
   deform(mesh, volume, default_options());
-  expect_valid_closed_surface(mesh);
+  test::expect_valid_closed_surface(mesh);
   const auto d = ph::vertex_distances(
       mesh, [&](const Vec3& p) { return ph::distance_to_ellipsoid(p, c, radii); }, volume.voxel_size());
   EXPECT_LE(d.mean, 0.25) << "p95 " << d.p95 << " max " << d.max;
@@ -80,7 +70,7 @@ TEST(DeformPhantom, cube_with_a_corner_missing_beats_marching_cubes) {
   Mesh mesh = make_icosahedron(Vec3(24, 24, 24), 3.0);
   const DeformResult result = deform(mesh, volume, default_options());
   EXPECT_EQ(result.reason, StopReason::converged);
-  expect_valid_closed_surface(mesh);
+  test::expect_valid_closed_surface(mesh);
   // Away from the edges (the paper's model rounds them, Fig. 8).
   const auto away_from_edges = [&](const Vec3& p) {
     int near_planes = 0;
@@ -103,7 +93,7 @@ TEST(DeformPhantom, follows_a_c_shaped_tube_around_its_bend) {
   const Volume volume = ph::voxelize(grid, sdf, kBackground, kContrast);
   Mesh mesh = make_icosahedron(c + Vec3(18.0, 0.5, 0.0), 3.0);  // at one end of the C
   deform(mesh, volume, default_options());
-  expect_valid_closed_surface(mesh);
+  test::expect_valid_closed_surface(mesh);
   const auto d = ph::vertex_distances(mesh, sdf, 1.0);
   EXPECT_LE(d.mean, 0.25);
   // Both ends reached: some vertex near the far end cap.
@@ -126,7 +116,7 @@ TEST(DeformPhantom, branching_shape_like_the_tooth_nerve) {
   const Volume volume = ph::voxelize(grid, sdf, kBackground, kContrast);
   Mesh mesh = make_icosahedron(c + Vec3(0, 0, 10), 3.0);  // in the trunk
   deform(mesh, volume, default_options());
-  expect_valid_closed_surface(mesh);
+  test::expect_valid_closed_surface(mesh);
   const auto d = ph::vertex_distances(mesh, sdf, 1.0);
   EXPECT_LE(d.mean, 0.25);
   EXPECT_LE(d.p95, 0.6);
@@ -152,7 +142,7 @@ TEST(DeformPhantom, does_not_leak_out_of_a_bottle_with_a_hole) {
   const Volume volume = ph::voxelize(grid, [&](const Vec3& p) { return -wall(p); }, kBackground, kContrast);
   Mesh mesh = make_icosahedron(c, 3.0);
   deform(mesh, volume, default_options());
-  expect_valid_closed_surface(mesh);
+  test::expect_valid_closed_surface(mesh);
   double farthest = 0.0;
   for (auto v : mesh.vertices()) farthest = std::max(farthest, (to_eigen(mesh.point(v)) - c).norm());
   // The finer model after the global refinement may bulge into the hole by
@@ -171,7 +161,7 @@ TEST(DeformPhantom, is_not_caught_by_salt_and_pepper_noise) {
   const Volume noisy = ph::with_pepper(clean, sdf, 0.03, kBackground, 1.5, 11);
   Mesh mesh = make_icosahedron(grid.center(), 3.0);
   deform(mesh, noisy, default_options());
-  expect_valid_closed_surface(mesh);
+  test::expect_valid_closed_surface(mesh);
   const auto d = ph::vertex_distances(mesh, sdf, 1.0);
   EXPECT_LE(d.mean, 0.5);
   EXPECT_LE(d.p95, 1.5);
@@ -184,7 +174,7 @@ TEST(DeformPhantom, gaussian_noise_keeps_every_guarantee) {
   const Volume noisy = ph::with_gaussian_noise(ph::voxelize(grid, sdf, kBackground, kContrast), 0.1 * kContrast, 5);
   Mesh mesh = make_icosahedron(grid.center(), 3.0);
   deform(mesh, noisy, default_options());
-  expect_valid_closed_surface(mesh);
+  test::expect_valid_closed_surface(mesh);
   EXPECT_LE(ph::vertex_distances(mesh, sdf, 1.0).mean, 0.5);
 }
 
@@ -205,7 +195,7 @@ TEST(DeformPhantom, grow_and_shrink_reach_the_same_boundary) {
   shrink.mode = Mode::shrink;
   deform(shrunk, volume, shrink);
   for (const Mesh* m : {&grown, &shrunk}) {
-    expect_valid_closed_surface(*m);
+    test::expect_valid_closed_surface(*m);
     const auto d = ph::vertex_distances(*m, [&](const Vec3& p) {
       return ph::distance_to_ellipsoid(p, grid.center(), Vec3(14, 11, 9));
     }, 1.0);
@@ -231,7 +221,7 @@ TEST(DeformPhantom, a_seed_straddling_the_boundary_converges_in_both_modes) {
     DeformOptions o = default_options();
     o.mode = mode;
     deform(mesh, volume, o);
-    expect_valid_closed_surface(mesh);
+    test::expect_valid_closed_surface(mesh);
     EXPECT_LE(ph::vertex_distances(mesh, sdf, 1.0).mean, 0.3) << (mode == Mode::grow ? "grow" : "shrink");
   }
 }

@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <deque>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -327,23 +326,8 @@ TEST(ErrorLod, tooth_pulp_against_marching_cubes) {
   // are set above it; voxels already above keep their value, so that the
   // crossings on the pulp's cell edges are the true ones.
   const auto& d = volume.dims();
-  const std::size_t nx = d[0], ny = d[1], nz = d[2];
-  std::vector<char> pulp(nx * ny * nz, 0);
-  std::deque<std::size_t> queue{seed_voxel[0] + nx * (seed_voxel[1] + ny * seed_voxel[2])};
-  pulp[queue.front()] = 1;
   const auto& values = volume.values();
-  while (!queue.empty()) {
-    const std::size_t i = queue.front();
-    queue.pop_front();
-    const std::size_t x = i % nx, y = (i / nx) % ny, z = i / (nx * ny);
-    const std::size_t next[6] = {x > 0 ? i - 1 : i,       x + 1 < nx ? i + 1 : i,           y > 0 ? i - nx : i,
-                                 y + 1 < ny ? i + nx : i, z > 0 ? i - nx * ny : i, z + 1 < nz ? i + nx * ny : i};
-    for (auto j : next)
-      if (!pulp[j] && values[j] < kToothThreshold) {
-        pulp[j] = 1;
-        queue.push_back(j);
-      }
-  }
+  const std::vector<char> pulp = ph::region_below(volume, seed_voxel, kToothThreshold);
   std::vector<float> masked(values.size());
   for (std::size_t i = 0; i < masked.size(); ++i)
     masked[i] = pulp[i] || values[i] >= kToothThreshold ? values[i] : 255.0f;

@@ -12,6 +12,7 @@
 #include "gdm/mesh_checks.h"
 #include "gdm/phantoms.h"
 #include "gdm/seed.h"
+#include "mesh_expectations.h"
 #include "surface_samples.h"
 
 using namespace gdm;
@@ -29,16 +30,6 @@ struct Case {
   std::function<double(const Vec3&)> distance;  // to the analytic surface, mm
   Vec3 seed;
 };
-
-void expect_guarantees(const Mesh& mesh) {
-  const MeshReport r = measure(mesh);
-  EXPECT_TRUE(r.closed) << to_string(r);
-  EXPECT_TRUE(r.two_manifold) << to_string(r);
-  EXPECT_EQ(r.genus, 0) << to_string(r);
-  EXPECT_EQ(r.components, 1) << to_string(r);
-  EXPECT_EQ(r.self_intersections, 0u) << to_string(r);
-  EXPECT_GT(r.volume, 0.0) << to_string(r);
-}
 
 DeformOptions accurate_options() {
   DeformOptions o;
@@ -60,7 +51,7 @@ void run_case(const Case& c, const Targets& t = {}) {
   Mesh mesh = make_icosahedron(c.seed, 3.0);
   const DeformResult result = deform(mesh, c.volume, accurate_options());
   EXPECT_EQ(result.reason, StopReason::converged);
-  expect_guarantees(mesh);
+  test::expect_valid_closed_surface(mesh);
   const double voxel = c.volume.voxel_size();
   const auto d = test::surface_distances(mesh, c.distance, voxel);
   const auto dv = ph::vertex_distances(mesh, c.distance, voxel);
@@ -139,7 +130,7 @@ TEST(SubvoxelFit, removes_the_shortfall_and_the_inward_bias) {
     o.threshold = kThreshold;
     o.subvoxel_fit = fit == 1;
     const DeformResult r = deform(mesh, volume, o);
-    expect_guarantees(mesh);
+    test::expect_valid_closed_surface(mesh);
     EXPECT_EQ(r.fit_moves > 0, fit == 1);
     double sum = 0.0;
     const auto samples = test::surface_samples(mesh);

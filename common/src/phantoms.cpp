@@ -1,6 +1,7 @@
 #include "gdm/phantoms.h"
 
 #include <algorithm>
+#include <deque>
 #include <cmath>
 
 namespace gdm::phantoms {
@@ -148,6 +149,28 @@ DistanceStats distance_stats(std::vector<double> d) {
   s.p95 = d[static_cast<std::size_t>(0.95 * static_cast<double>(d.size() - 1))];
   s.max = d.back();
   return s;
+}
+
+std::vector<char> region_below(const Volume& volume, const Index3& seed, double threshold) {
+  const auto& d = volume.dims();
+  const std::size_t nx = d[0], ny = d[1], nz = d[2];
+  const auto& values = volume.values();
+  std::vector<char> region(nx * ny * nz, 0);
+  std::deque<std::size_t> queue{seed[0] + nx * (seed[1] + ny * seed[2])};
+  region[queue.front()] = 1;
+  while (!queue.empty()) {
+    const std::size_t i = queue.front();
+    queue.pop_front();
+    const std::size_t x = i % nx, y = (i / nx) % ny, z = i / (nx * ny);
+    const std::size_t next[6] = {x > 0 ? i - 1 : i,       x + 1 < nx ? i + 1 : i,       y > 0 ? i - nx : i,
+                                 y + 1 < ny ? i + nx : i, z > 0 ? i - nx * ny : i, z + 1 < nz ? i + nx * ny : i};
+    for (const auto j : next)
+      if (!region[j] && values[j] < threshold) {
+        region[j] = 1;
+        queue.push_back(j);
+      }
+  }
+  return region;
 }
 
 std::size_t marching_cubes_triangle_count(const Volume& volume, double threshold) {

@@ -4,7 +4,6 @@
 #include <array>
 #include <chrono>
 #include <cmath>
-#include <deque>
 #include <iostream>
 #include <vector>
 
@@ -67,29 +66,9 @@ TEST(itkGDMTooth, PulpChamberAgainstMarchingCubes)
   // The pulp: the 6-connected voxels below the threshold reached from the seed
   // voxel. Everything else is set above the threshold, so that marching cubes
   // sees only the pulp's iso-surface.
-  const auto        size = image->GetLargestPossibleRegion().GetSize();
-  const std::size_t nx = size[0], ny = size[1], nz = size[2];
-  const auto *      values = image->GetBufferPointer();
-  std::vector<char> pulp(nx * ny * nz, 0);
-  std::deque<std::size_t> queue{ 50 + nx * (47 + ny * 95) };
-  pulp[queue.front()] = 1;
-  while (!queue.empty())
-  {
-    const std::size_t i = queue.front();
-    queue.pop_front();
-    const std::size_t x = i % nx, y = (i / nx) % ny, z = i / (nx * ny);
-    const std::size_t next[6] = { x > 0 ? i - 1 : i,           x + 1 < nx ? i + 1 : i,
-                                  y > 0 ? i - nx : i,          y + 1 < ny ? i + nx : i,
-                                  z > 0 ? i - nx * ny : i,     z + 1 < nz ? i + nx * ny : i };
-    for (auto j : next)
-    {
-      if (!pulp[j] && values[j] < kThreshold)
-      {
-        pulp[j] = 1;
-        queue.push_back(j);
-      }
-    }
-  }
+  const auto *            values = image->GetBufferPointer();
+  const std::vector<char> pulp =
+    gdm::phantoms::region_below(itk::GDMConversion::VolumeFromImage(image.GetPointer()), { 50, 47, 95 }, kThreshold);
   auto masked = ImageType::New();
   masked->CopyInformation(image);
   masked->SetRegions(image->GetLargestPossibleRegion());

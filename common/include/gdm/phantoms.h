@@ -62,6 +62,11 @@ DistanceStats vertex_distances(const Mesh& mesh, const std::function<double(cons
 // Mean, 95th percentile and maximum of distances already in voxels.
 DistanceStats distance_stats(std::vector<double> distances);
 
+// The voxels 6-connected to `seed` (included) whose value is below
+// `threshold`, as a 0/1 mask in the volume's index order (x fastest): a
+// dark region such as the tooth's pulp, for reference volumes and surfaces.
+std::vector<char> region_below(const Volume& volume, const Index3& seed, double threshold);
+
 // The number of triangles classic marching cubes produces on the volume at
 // the threshold (each cell's polygons, k corners giving k - 2 triangles;
 // ambiguous faces separate the corners above the threshold).

@@ -12,7 +12,6 @@
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
-#include <deque>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -33,6 +32,7 @@
 #include "itkMetaDataObject.h"
 
 #include "gdm/mesh_checks.h"
+#include "gdm/phantoms.h"
 #include "gdm/seed.h"
 #include "json_writer.h"
 
@@ -760,25 +760,11 @@ TEST(RealData, ToothPulp) {
   using ImageType = itk::Image<unsigned char, 3>;
   const auto image = itk::ReadImage<ImageType>(file);
   const auto size = image->GetLargestPossibleRegion().GetSize();
-  const std::size_t nx = size[0], ny = size[1], nz = size[2];
   const unsigned char* v = image->GetBufferPointer();
-  std::vector<char> pulp(nx * ny * nz, 0);
-  std::deque<std::size_t> queue{50 + nx * (47 + ny * 95)};
-  pulp[queue.front()] = 1;
-  std::size_t count = 1;
-  while (!queue.empty()) {
-    const std::size_t i = queue.front();
-    queue.pop_front();
-    const std::size_t x = i % nx, y = (i / nx) % ny, z = i / (nx * ny);
-    const std::size_t next[6] = {x > 0 ? i - 1 : i,       x + 1 < nx ? i + 1 : i,       y > 0 ? i - nx : i,
-                                 y + 1 < ny ? i + nx : i, z > 0 ? i - nx * ny : i, z + 1 < nz ? i + nx * ny : i};
-    for (const auto j : next)
-      if (!pulp[j] && v[j] < kThreshold) {
-        pulp[j] = 1;
-        ++count;
-        queue.push_back(j);
-      }
-  }
+  const gdm::Volume volume({static_cast<int>(size[0]), static_cast<int>(size[1]), static_cast<int>(size[2])},
+                           std::vector<float>(v, v + size[0] * size[1] * size[2]));
+  const std::vector<char> pulp = gdm::phantoms::region_below(volume, {50, 47, 95}, kThreshold);
+  const auto count = static_cast<std::size_t>(std::count(pulp.begin(), pulp.end(), 1));
   const auto s = image->GetSpacing();
   const double voxels_mm3 = static_cast<double>(count) * s[0] * s[1] * s[2];
 
