@@ -31,6 +31,10 @@ struct FitOptions {
   double noise = -1.0;          // crossing-distance noise (estimate_crossing_noise), mm: the part h of a
                                 // vertex's offset beyond its ring's mean is kept as h^2 / (h^2 + noise^2);
                                 // < 0: not kept (the ring's mean only)
+  double regularization = 0.5;  // noise-adaptive smoothness (needs noise > 0): a vertex's offset is
+                                // drawn toward the quadric fitted over its 2-ring with weight
+                                // s^2 / (s^2 + h^2), s = regularization x noise, h the vertex's height
+                                // above that quadric; 0: off
   bool prevent_self_intersection = true;  // every move checked by the IntersectionGuard
   int threads = 0;              // workers for the offsets (0 = all cores); the result does not depend on it
 };
@@ -47,7 +51,9 @@ struct FitResult {
 // faces' centroids, its edges' midpoints), weighted by how much each moves
 // with the vertex; offsets are averaged once with the 1-ring's (noise), the
 // vertex's own part given back in proportion to how far it stands above
-// options.noise (Wiener-like), then applied in vertex order (moves under a
+// options.noise (Wiener-like), drawn toward the quadric over its 2-ring where
+// its height above it is within what the noise explains, then applied in
+// vertex order (moves under a
 // hundredth of a voxel skipped), each move checked by the IntersectionGuard (a
 // refused move is retried at half and a quarter length) and kept inside the
 // grid. At the fixed point flat faces sit across a curved surface instead of

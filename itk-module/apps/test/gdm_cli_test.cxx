@@ -366,15 +366,18 @@ TEST(Formats, SameMeshFromMhaNrrdNiftiDicom) {
   }
 
   // The extent in mm: the mesh surface lies within one spacing of the outermost
-  // voxel centres above T along every axis.
+  // voxel centres above T along every axis, give or take a hundredth of one:
+  // the fit's noise-adaptive smoothing (surface_fit.h) may leave a vertex a
+  // noise-level past the last crossing of the data (1.3 um on this phantom).
   const auto mesh_box = bounds(reference);
   const auto voxel_box = voxel_bounds(image.GetPointer(), 400.0, false);
   const auto spacing = image->GetSpacing();
   for (int d = 0; d < 3; ++d) {
+    const double slack = 0.01 * spacing[d];
     EXPECT_LE(mesh_box[d], voxel_box[d] + 0.1 * spacing[d]) << "low bound, axis " << d;
-    EXPECT_GE(mesh_box[d], voxel_box[d] - spacing[d]) << "low bound, axis " << d;
+    EXPECT_GE(mesh_box[d], voxel_box[d] - spacing[d] - slack) << "low bound, axis " << d;
     EXPECT_GE(mesh_box[d + 3], voxel_box[d + 3] - 0.1 * spacing[d]) << "high bound, axis " << d;
-    EXPECT_LE(mesh_box[d + 3], voxel_box[d + 3] + spacing[d]) << "high bound, axis " << d;
+    EXPECT_LE(mesh_box[d + 3], voxel_box[d + 3] + spacing[d] + slack) << "high bound, axis " << d;
   }
   const gdm::MeshReport r = measure(reference);
   EXPECT_TRUE(r.closed);
