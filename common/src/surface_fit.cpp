@@ -5,7 +5,7 @@
 #include <limits>
 #include <memory>
 
-#include <Eigen/QR>
+#include <Eigen/Cholesky>
 
 #include "gdm/intersection_guard.h"
 #include "gdm/parallel.h"
@@ -123,15 +123,25 @@ double height_above_quadric(const Mesh& mesh, Mesh::VertexHandle v, const Vec3& 
   ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
   if (ring.size() < 9) return std::numeric_limits<double>::quiet_NaN();
   const Vec3 p = pos(mesh, v), t1 = n.unitOrthogonal(), t2 = n.cross(t1);
-  Eigen::MatrixXd a(ring.size(), 6);
-  Eigen::VectorXd h(ring.size());
-  for (std::size_t j = 0; j < ring.size(); ++j) {
-    const Vec3 q = pos(mesh, Mesh::VertexHandle(ring[j])) - p;
+  // Normal equations in coordinates scaled by the ring's extent (keeps them
+  // well conditioned whatever the units).
+  double extent = 0.0;
+  for (int w : ring) extent = std::max(extent, (pos(mesh, Mesh::VertexHandle(w)) - p).norm());
+  if (extent <= 0.0) return std::numeric_limits<double>::quiet_NaN();
+  Eigen::Matrix<double, 6, 6> ata = Eigen::Matrix<double, 6, 6>::Zero();
+  Eigen::Matrix<double, 6, 1> ath = Eigen::Matrix<double, 6, 1>::Zero();
+  for (int w : ring) {
+    const Vec3 q = (pos(mesh, Mesh::VertexHandle(w)) - p) / extent;
     const double x = q.dot(t1), y = q.dot(t2);
-    a.row(static_cast<long>(j)) << 1.0, x, y, x * x, x * y, y * y;
-    h[static_cast<long>(j)] = q.dot(n);
+    Eigen::Matrix<double, 6, 1> row;
+    row << 1.0, x, y, x * x, x * y, y * y;
+    ata.selfadjointView<Eigen::Lower>().rankUpdate(row);
+    ath += row * q.dot(n);
   }
-  return -a.colPivHouseholderQr().solve(h)[0];
+  const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> ldlt(ata.selfadjointView<Eigen::Lower>());
+  if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) return std::numeric_limits<double>::quiet_NaN();
+  const double c0 = ldlt.solve(ath)[0];
+  return std::isfinite(c0) ? -c0 * extent : std::numeric_limits<double>::quiet_NaN();
 }
 
 // Rounds of averaging each vertex's offset with its 1-ring's mean: one
