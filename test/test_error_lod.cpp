@@ -226,6 +226,8 @@ TEST(ErrorLod, options_are_validated_with_named_messages) {
   EXPECT_NE(message([](DeformOptions& o) { o.lod_tolerance = 0.001; }).find("lod_tolerance"), std::string::npos);
   EXPECT_NE(message([](DeformOptions& o) { o.lod_tolerance = NAN; }).find("lod_tolerance"), std::string::npos);
   EXPECT_NE(message([](DeformOptions& o) { o.fit_passes = 0; }).find("fit_passes"), std::string::npos);
+  EXPECT_NE(message([](DeformOptions& o) { o.fit_smoothing = -0.1; }).find("fit_smoothing"), std::string::npos);
+  EXPECT_NE(message([](DeformOptions& o) { o.fit_smoothing = 6.0; }).find("fit_smoothing"), std::string::npos);
   EXPECT_NE(message([](DeformOptions& o) { o.fit_max_distance = 0.0; }).find("fit_max_distance"), std::string::npos);
   EXPECT_NE(message([](DeformOptions& o) { o.lod_min_angle = 70.0; }).find("lod_min_angle"), std::string::npos);
   EXPECT_NE(message([](DeformOptions& o) { o.lod_rounds = 0; }).find("lod_rounds"), std::string::npos);

@@ -83,6 +83,8 @@ void validate(const DeformOptions& o, const Volume& volume) {
   require(o.fit_passes >= 1 && o.fit_passes <= 20, "fit_passes must be in [1, 20], got " + num(o.fit_passes));
   require(std::isfinite(o.fit_max_distance) && o.fit_max_distance > 0.0 && o.fit_max_distance <= 4.0,
           "fit_max_distance must be in (0, 4] voxels, got " + num(o.fit_max_distance));
+  require(std::isfinite(o.fit_smoothing) && o.fit_smoothing >= 0.0 && o.fit_smoothing <= 5.0,
+          "fit_smoothing must be in [0, 5] (0 = off), got " + num(o.fit_smoothing));
   require(std::isfinite(o.lod_tolerance) && o.lod_tolerance >= 0.0 && o.lod_tolerance <= 10.0,
           "lod_tolerance must be in [0, 10] voxels (0 = off), got " + num(o.lod_tolerance));
   require(o.lod_tolerance == 0.0 || o.lod_tolerance >= 0.01,
@@ -418,6 +420,7 @@ void Deformer::finish(int cycle, DeformResult& result) {
   FitOptions fit;
   fit.passes = o_.fit_passes;
   fit.max_distance = o_.fit_max_distance;
+  fit.regularization = o_.fit_smoothing;
   fit.search = std::max(1.5, o_.fit_max_distance + 0.5);
   fit.normal_rings = o_.normal_rings;
   fit.prevent_self_intersection = o_.prevent_self_intersection;

@@ -286,6 +286,7 @@ std::vector<OptionSpec> make_table() {
       row("--subvoxel-fit", "on|off", "", model, "after convergence, move every vertex onto the threshold crossing of the trilinear field", on_off(GDM_FIELD(bool, deform.subvoxel_fit))),
       row("--fit-passes", "N", "", model, "sweeps of the sub-voxel fit, in [1, 20]", integer(GDM_FIELD(int, deform.fit_passes), 1, 20)),
       row("--fit-max-distance", "D", "voxels", model, "a vertex moves at most this far in the fit, in (0, 4]", real_interval(GDM_FIELD(double, deform.fit_max_distance), 0.0, true, 4.0, false)),
+      row("--fit-smoothing", "S", "", model, "the fit draws a vertex toward the quadric over its 2-ring where it stands within S image-noise levels of it (smooths noise, keeps edges), in [0, 5], 0 = off", real_interval(GDM_FIELD(double, deform.fit_smoothing), 0.0, false, 5.0, false)),
       row("--lod-tolerance", "E", "voxels", model, "error-driven level of detail: at most this deviation of a face from the threshold surface; splits where the surface leaves the faces, collapses where flat (0 = off, else [0.01, 10])", lod_tolerance()),
       row("--lod-min-angle", "DEG", "degrees", model, "collapses of the error-driven level of detail keep every angle above this, in [0, 60)", real_interval(GDM_FIELD(double, deform.lod_min_angle), 0.0, false, 60.0, true)),
       row("--lod-rounds", "N", "rounds", model, "collapse / split / fit rounds of the error-driven level of detail, in [1, 50]", integer(GDM_FIELD(int, deform.lod_rounds), 1, 50)),

@@ -109,6 +109,7 @@ ModelResult run_model(const Image* image, const gdm::DeformOptions& o, const Mod
   filter->SetSubvoxelFit(o.subvoxel_fit);
   filter->SetNumberOfFitPasses(static_cast<unsigned int>(std::max(o.fit_passes, 0)));
   filter->SetFitMaximumDistance(o.fit_max_distance);
+  filter->SetFitSmoothing(o.fit_smoothing);
   filter->SetLevelOfDetailTolerance(o.lod_tolerance);
   filter->SetLevelOfDetailMinimumAngle(o.lod_min_angle);
   filter->SetLevelOfDetailRounds(static_cast<unsigned int>(std::max(o.lod_rounds, 0)));

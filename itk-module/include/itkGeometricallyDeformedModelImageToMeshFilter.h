@@ -125,8 +125,11 @@ operator<<(std::ostream & os, const GeometricallyDeformedModelEnums::Polarity va
  * - SubvoxelFit [on]: after the last convergence, move every vertex along its
  *   normal onto the threshold crossing of the trilinear field (beyond the
  *   paper; removes the quarter-voxel shortfall and the curvature term's
- *   inward bias). NumberOfFitPasses [4, in [1, 20]] least-squares sweeps;
- *   FitMaximumDistance [1 voxel, in (0, 4]] bounds each vertex's move.
+ *   inward bias). NumberOfFitPasses [8, in [1, 20]] least-squares sweeps;
+ *   FitMaximumDistance [1 voxel, in (0, 4]] bounds each vertex's move;
+ *   FitSmoothing [0.5, in [0, 5], 0 = off] draws a vertex toward the quadric
+ *   over its 2-ring where it stands within that many image-noise levels of
+ *   it (smooths noise, keeps edges and corners).
  * - LevelOfDetailTolerance [0 = off, in [0.01, 10] voxels]: error-driven level
  *   of detail after the fit: faces deviating from the threshold surface by
  *   more than this are split, edges whose collapse keeps the new faces within
@@ -326,6 +329,8 @@ public:
   /** A vertex moves at most this far in the fit, voxels, in (0, 4]. */
   itkSetMacro(FitMaximumDistance, double);
   itkGetConstMacro(FitMaximumDistance, double);
+  itkSetMacro(FitSmoothing, double);
+  itkGetConstMacro(FitSmoothing, double);
 
   /** Error-driven level of detail: largest deviation of a face from the
    * threshold surface, voxels (smallest spacing), in [0.01, 10]; 0 = off. */
@@ -447,6 +452,7 @@ private:
   bool          m_SubvoxelFit;
   unsigned int  m_NumberOfFitPasses;
   double        m_FitMaximumDistance;
+  double        m_FitSmoothing;
   double        m_LevelOfDetailTolerance;
   double        m_LevelOfDetailMinimumAngle;
   unsigned int  m_LevelOfDetailRounds;

@@ -55,6 +55,7 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::Geometric
   m_SubvoxelFit = defaults.subvoxel_fit;
   m_NumberOfFitPasses = static_cast<unsigned int>(defaults.fit_passes);
   m_FitMaximumDistance = defaults.fit_max_distance;
+  m_FitSmoothing = defaults.fit_smoothing;
   m_LevelOfDetailTolerance = defaults.lod_tolerance;
   m_LevelOfDetailMinimumAngle = defaults.lod_min_angle;
   m_LevelOfDetailRounds = static_cast<unsigned int>(defaults.lod_rounds);
@@ -98,6 +99,7 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::GetDeform
   o.subvoxel_fit = m_SubvoxelFit;
   o.fit_passes = static_cast<int>(std::min<unsigned int>(m_NumberOfFitPasses, 1000000u));
   o.fit_max_distance = m_FitMaximumDistance;
+  o.fit_smoothing = m_FitSmoothing;
   o.lod_tolerance = m_LevelOfDetailTolerance;
   o.lod_min_angle = m_LevelOfDetailMinimumAngle;
   o.lod_rounds = static_cast<int>(std::min<unsigned int>(m_LevelOfDetailRounds, 1000000u));
@@ -285,6 +287,7 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::PrintSelf
   os << indent << "SubvoxelFit: " << (m_SubvoxelFit ? "On" : "Off") << std::endl;
   os << indent << "NumberOfFitPasses: " << m_NumberOfFitPasses << std::endl;
   os << indent << "FitMaximumDistance: " << m_FitMaximumDistance << std::endl;
+  os << indent << "FitSmoothing: " << m_FitSmoothing << std::endl;
   os << indent << "LevelOfDetailTolerance: " << m_LevelOfDetailTolerance << std::endl;
   os << indent << "LevelOfDetailMinimumAngle: " << m_LevelOfDetailMinimumAngle << std::endl;
   os << indent << "LevelOfDetailRounds: " << m_LevelOfDetailRounds << std::endl;

@@ -62,6 +62,7 @@ ExerciseBasicsAndSetGet()
   ITK_TEST_SET_GET_VALUE(d.subvoxel_fit, filter->GetSubvoxelFit());
   ITK_TEST_SET_GET_VALUE(static_cast<unsigned int>(d.fit_passes), filter->GetNumberOfFitPasses());
   ITK_TEST_SET_GET_VALUE(d.fit_max_distance, filter->GetFitMaximumDistance());
+  ITK_TEST_SET_GET_VALUE(d.fit_smoothing, filter->GetFitSmoothing());
   ITK_TEST_SET_GET_VALUE(d.lod_tolerance, filter->GetLevelOfDetailTolerance());
   ITK_TEST_SET_GET_VALUE(d.lod_min_angle, filter->GetLevelOfDetailMinimumAngle());
   ITK_TEST_SET_GET_VALUE(static_cast<unsigned int>(d.lod_rounds), filter->GetLevelOfDetailRounds());
@@ -128,6 +129,7 @@ ExerciseBasicsAndSetGet()
   filter->SubvoxelFitOff();
   ITK_TEST_SET_GET_VALUE(6u, (filter->SetNumberOfFitPasses(6), filter->GetNumberOfFitPasses()));
   ITK_TEST_SET_GET_VALUE(0.75, (filter->SetFitMaximumDistance(0.75), filter->GetFitMaximumDistance()));
+  ITK_TEST_SET_GET_VALUE(1.5, (filter->SetFitSmoothing(1.5), filter->GetFitSmoothing()));
   ITK_TEST_SET_GET_VALUE(0.1, (filter->SetLevelOfDetailTolerance(0.1), filter->GetLevelOfDetailTolerance()));
   ITK_TEST_SET_GET_VALUE(12.0, (filter->SetLevelOfDetailMinimumAngle(12.0), filter->GetLevelOfDetailMinimumAngle()));
   ITK_TEST_SET_GET_VALUE(3u, (filter->SetLevelOfDetailRounds(3), filter->GetLevelOfDetailRounds()));
@@ -158,7 +160,7 @@ ExerciseBasicsAndSetGet()
       o.optimizer.max_step_reductions != 2 || o.optimizer.gradient_step != 0.2 || o.lod_face_area != 6.0 ||
       o.global_refinements != 0 || o.max_cycles != 300 || o.convergence_tolerance != 0.3 ||
       o.convergence_window != 8 || o.flip_max_dihedral != 15.0 || o.max_faces != 5000 || o.threads != 2 ||
-      o.subvoxel_fit || o.fit_passes != 6 || o.fit_max_distance != 0.75 || o.lod_tolerance != 0.1 ||
+      o.subvoxel_fit || o.fit_passes != 6 || o.fit_max_distance != 0.75 || o.fit_smoothing != 1.5 || o.lod_tolerance != 0.1 ||
       o.lod_min_angle != 12.0 || o.lod_rounds != 3 || o.max_topology_ratio != 0.8 || o.refinement_travel != 1.25 ||
       o.float_exact_output)
   {
@@ -175,7 +177,7 @@ ExerciseBasicsAndSetGet()
          "GradientStep", "LevelOfDetailFaceArea", "LevelOfDetailTopologyExtent", "NumberOfGlobalRefinements",
          "MaximumNumberOfCycles", "ConvergenceTolerance", "ConvergenceWindow", "PreventSelfIntersection",
          "ImproveTriangles", "FlipMaximumDihedralAngle", "MaximumNumberOfFaces", "SubvoxelFit", "NumberOfFitPasses",
-         "FitMaximumDistance", "LevelOfDetailTolerance", "LevelOfDetailMinimumAngle", "LevelOfDetailRounds",
+         "FitMaximumDistance", "FitSmoothing", "LevelOfDetailTolerance", "LevelOfDetailMinimumAngle", "LevelOfDetailRounds",
          "MaximumTopologyRatio", "RefinementTravel", "FloatExactOutput", "SeedCenter", "SeedRadius",
          "SeedSubdivisionLevel", "StopReason", "NumberOfCycles", "NumberOfGlobalRefinementsPerformed",
          "NumberOfRejectedMoves", "NumberOfFlips", "NumberOfBorderVertices", "NumberOfFitMoves",

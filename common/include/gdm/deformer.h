@@ -49,6 +49,9 @@ struct DeformOptions {
   int fit_passes = 8;                // sweeps of the fit (normals re-estimated each sweep; stops early at
                                      // a fixed point)
   double fit_max_distance = 1.0;     // a vertex moves at most this far in the fit, voxels (0, 4]
+  double fit_smoothing = 0.5;        // noise-adaptive smoothing of the fit, in [0, 5] (0 = off): a vertex
+                                     // within this many noise levels of the quadric over its 2-ring is
+                                     // drawn toward it (FitOptions::regularization)
   double lod_tolerance = 0.0;        // error-driven level of detail: largest deviation of a face from
                                      // the threshold surface, voxels (smallest spacing); 0 = off. It
                                      // fits the vertices it changes even when subvoxel_fit is off

@@ -529,7 +529,7 @@ TEST(Output, HelpDocumentsOptionsAndExitCodes) {
   for (const char* s : {"--threshold", "--polarity", "--seed", "--seed-index", "--seed-radius", "--seed-mesh",
                         "--smooth", "--roi", "--series", "--mode", "--a0", "--a1", "--a2", "--lod", "--refinements",
                         "--max-cycles", "--threads", "--report", "--quiet", "Exit codes", "default: 10]",
-                        "[mm; default: 0]", "--subvoxel-fit on|off", "--fit-passes N", "--fit-max-distance D",
+                        "[mm; default: 0]", "--subvoxel-fit on|off", "--fit-passes N", "--fit-max-distance D", "--fit-smoothing S",
                         "--lod-tolerance E", "--lod-min-angle DEG", "--lod-rounds N", "--max-topology-ratio R",
                         "--refinement-travel D", "--float-exact on|off", "[voxels; default: 0]",
                         "[degrees; default: 15]", "[rounds; default: 6]"})
@@ -642,7 +642,8 @@ TEST(Model, ErrorDrivenLevelOfDetail) {
   // The other new options reach the core and the report.
   const GdmRun options = run_gdm(dir, {"--refinements", "0", "--subvoxel-fit", "off", "--float-exact", "off",
                                        "--max-topology-ratio", "inf", "--refinement-travel", "2", "--fit-passes", "3",
-                                       "--fit-max-distance", "0.5", "--lod-min-angle", "10", "--lod-rounds", "2",
+                                       "--fit-max-distance", "0.5", "--fit-smoothing", "1.5", "--lod-min-angle", "10",
+                                       "--lod-rounds", "2",
                                        "-o", "c.ply", "--report", "c.json", "--quiet"});
   ASSERT_EQ(options.code, 0) << options.err;
   const std::string c = slurp(dir / "c.json");
@@ -653,6 +654,7 @@ TEST(Model, ErrorDrivenLevelOfDetail) {
   EXPECT_EQ(json_value(c, "refinement-travel"), 2.0);
   EXPECT_EQ(json_value(c, "fit-passes"), 3.0);
   EXPECT_EQ(json_value(c, "fit-max-distance"), 0.5);
+  EXPECT_EQ(json_value(c, "fit-smoothing"), 1.5);
   EXPECT_EQ(json_value(c, "lod-min-angle"), 10.0);
   EXPECT_EQ(json_value(c, "lod-rounds"), 2.0);
 
@@ -662,6 +664,7 @@ TEST(Model, ErrorDrivenLevelOfDetail) {
       {{"--lod-tolerance", "0.001"}, "--lod-tolerance: must be 0 (off) or in [0.01, 10] voxels"},
       {{"--fit-passes", "0"}, "--fit-passes: must be in [1, 20], got 0"},
       {{"--fit-max-distance", "0"}, "--fit-max-distance: must be in (0, 4], got 0"},
+      {{"--fit-smoothing", "-1"}, "--fit-smoothing: must be in [0, 5], got -1"},
       {{"--lod-min-angle", "60"}, "--lod-min-angle: must be in [0, 60), got 60"},
       {{"--lod-rounds", "51"}, "--lod-rounds: must be in [1, 50], got 51"},
       {{"--max-topology-ratio", "0"}, "--max-topology-ratio: must be > 0"},
