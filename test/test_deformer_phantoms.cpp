@@ -8,6 +8,7 @@
 #include "gdm/mesh_checks.h"
 #include "gdm/phantoms.h"
 #include "gdm/seed.h"
+#include "anisotropic_ellipsoid.h"
 #include "mesh_expectations.h"
 
 using namespace gdm;
@@ -43,13 +44,9 @@ TEST(DeformPhantom, sphere_is_found_within_a_quarter_voxel) {
 }
 
 TEST(DeformPhantom, ellipsoid_with_anisotropic_spacing_and_rotated_axes) {
-  ph::Grid grid;
-  grid.dims = {72, 64, 20};
-  grid.spacing = Vec3(0.5, 0.5, 2.0);
-  grid.origin = Vec3(-12.0, 30.0, 100.0);
-  grid.direction = Eigen::AngleAxisd(0.4, Vec3(0.3, 0.2, 1.0).normalized()).toRotationMatrix();
-  const Vec3 c = grid.center(), radii(13.0, 10.0, 12.0);
-  const Volume volume = ph::voxelize(grid, ph::ellipsoid(c, radii), kBackground, kContrast);
+  const auto e = test::anisotropic_ellipsoid();
+  const Vec3 c = e.center, radii = e.radii;
+  const Volume volume = ph::voxelize(e.grid, ph::ellipsoid(c, radii), kBackground, kContrast);
   Mesh mesh = make_icosahedron(c, 3.0);
   deform(mesh, volume, default_options());
   test::expect_valid_closed_surface(mesh);

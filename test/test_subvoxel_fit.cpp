@@ -14,6 +14,7 @@
 #include "gdm/phantoms.h"
 #include "gdm/seed.h"
 #include "gdm/surface_fit.h"
+#include "anisotropic_ellipsoid.h"
 #include "mesh_expectations.h"
 #include "surface_samples.h"
 
@@ -79,13 +80,9 @@ void run_case(const Case& c, const DeformOptions& options = accurate_options(), 
 
 // The ellipsoid of the anisotropic test: 0.5 x 0.5 x 2 mm voxels, rotated.
 Case anisotropic_ellipsoid(bool noisy) {
-  ph::Grid grid;
-  grid.dims = {72, 64, 20};
-  grid.spacing = Vec3(0.5, 0.5, 2.0);
-  grid.origin = Vec3(-12.0, 30.0, 100.0);
-  grid.direction = Eigen::AngleAxisd(0.4, Vec3(0.3, 0.2, 1.0).normalized()).toRotationMatrix();
-  const Vec3 c = grid.center(), radii(13.0, 10.0, 12.0);
-  Volume volume = ph::voxelize(grid, ph::ellipsoid(c, radii), kBackground, kContrast);
+  const auto e = test::anisotropic_ellipsoid();
+  const Vec3 c = e.center, radii = e.radii;
+  Volume volume = ph::voxelize(e.grid, ph::ellipsoid(c, radii), kBackground, kContrast);
   if (noisy) volume = ph::with_gaussian_noise(volume, kNoise, 72);
   return {"ellipsoid 0.5x0.5x2", std::move(volume),
           [=](const Vec3& p) { return ph::distance_to_ellipsoid(p, c, radii); }, c};
@@ -130,7 +127,7 @@ TEST(SubvoxelFit, regularization_removes_noise_without_shrinking) {
     fit_to_threshold(mesh, c.volume, kThreshold, fit, origin);
     test::expect_valid_closed_surface(mesh);
     mean[regularize] = test::surface_distances(mesh, c.distance, voxel).mean;
-    const auto inside = ph::ellipsoid(c.seed, Vec3(13.0, 10.0, 12.0));
+    const auto inside = ph::ellipsoid(c.seed, test::anisotropic_ellipsoid().radii);
     double sum = 0.0;
     const auto samples = test::surface_samples(mesh);
     for (const Vec3& p : samples) sum += (inside(p) < 0.0 ? -1.0 : 1.0) * c.distance(p);
