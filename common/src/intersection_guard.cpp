@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "gdm/cell_hash.h"
 #include "gdm/predicates.h"
@@ -114,16 +115,36 @@ bool IntersectionGuard::move_is_safe(Mesh::VertexHandle v, const Vec3& p) {
       return false;
     }
   }
+  // One grid query for the whole moved fan: every candidate face is built
+  // once and tested against each fan face whose box it meets. Pairs within
+  // the fan are checked too (their shared vertex is known to the predicate),
+  // so a fan cannot fold over itself.
+  std::vector<Triangle> fan;
+  fan.reserve(ring_faces.size());
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  std::vector<std::pair<Vec3, Vec3>> boxes;
+  boxes.reserve(ring_faces.size());
   for (int f : ring_faces) {
-    // Pairs within the ring are checked too (their shared vertex is known to
-    // the predicate), so a fan cannot fold over itself.
-    const std::vector<int> ignore{f};
-    if (!triangle_is_clear(face_triangle(f, v.idx(), p), ignore, v.idx(), p)) {
-      ++stats_.rejected_moves;
-      return false;
-    }
+    fan.push_back(face_triangle(f, v.idx(), p));
+    const Triangle& t = fan.back();
+    boxes.emplace_back(t.p[0].cwiseMin(t.p[1]).cwiseMin(t.p[2]), t.p[0].cwiseMax(t.p[1]).cwiseMax(t.p[2]));
+    lo = lo.cwiseMin(boxes.back().first);
+    hi = hi.cwiseMax(boxes.back().second);
   }
-  return true;
+  bool clear = true;
+  grid_.for_each_near(lo, hi, [&](int g) {
+    if (!clear) return;
+    const Triangle other = face_triangle(g, v.idx(), p);
+    const Vec3 olo = other.p[0].cwiseMin(other.p[1]).cwiseMin(other.p[2]);
+    const Vec3 ohi = other.p[0].cwiseMax(other.p[1]).cwiseMax(other.p[2]);
+    for (std::size_t i = 0; i < fan.size() && clear; ++i) {
+      if (ring_faces[i] == g) continue;
+      if ((olo.array() > boxes[i].second.array()).any() || (ohi.array() < boxes[i].first.array()).any()) continue;
+      if (triangles_intersect_improperly(fan[i].p, fan[i].id, other.p, other.id)) clear = false;
+    }
+  });
+  if (!clear) ++stats_.rejected_moves;
+  return clear;
 }
 
 bool IntersectionGuard::flip_is_safe(Mesh::EdgeHandle e, const Mesh::VertexHandle (&q)[4]) {
