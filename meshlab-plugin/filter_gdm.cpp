@@ -76,8 +76,9 @@ QString FilterGdmPlugin::filterInfo(FilterIDType filterId) const
 		return QString("Wraps the current layer (any triangles: holes, several pieces, noise; or a point cloud) in a "
 			"closed, 2-manifold, genus-0, self-intersection-free mesh: a sphere around the layer shrinks onto the "
 			"distance field of the layer (the paper's \"shrink wrap collapsing around an object\", section 1). "
-			"Holes and gaps smaller than the level of detail are bridged. The log gives the wrap's faces, volume and "
-			"its largest distances to the input.")
+			"Holes and gaps smaller than the level of detail are bridged. Where input is left beyond 90% of the "
+			"tolerance (a crevice narrower than the wrap's faces), the wrap is refined there and shrunk again, at "
+			"most 4 times. The log gives the wrap's faces, volume and its largest distances to the input.")
 			+ kReference;
 	default: assert(0); return "Unknown Filter";
 	}

@@ -1,13 +1,9 @@
 #include "gdm_bridge.h"
 
-#include <algorithm>
-#include <cmath>
-#include <limits>
-#include <memory>
+#include <array>
 #include <sstream>
 
 #include "gdm/errors.h"
-#include "gdm/float_snap.h"
 #include "gdm/mesh_checks.h"
 #include "gdm/seed.h"
 #include "volume_io.h"
@@ -22,21 +18,6 @@ std::string fmt(double v) {
   return s.str();
 }
 
-// Maps the deformation cycles onto [from, to] percent: each stage (the first
-// convergence and every global refinement) gets an equal share, filled
-// asymptotically as its cycles go by.
-gdm::DeformObserver observer_for(const Progress& progress, int from, int to, int stages, const char* text) {
-  if (!progress) return {};
-  auto stage_start = std::make_shared<std::pair<int, int>>(0, 0);  // stage, first cycle
-  return [=](const gdm::CycleReport& r) {
-    if (r.stage != stage_start->first) *stage_start = {r.stage, r.cycle};
-    const double in_stage = r.cycle - stage_start->second;
-    const double f = 1.0 - 1.0 / (1.0 + in_stage / 30.0);
-    const double share = (std::min(r.stage, stages - 1) + f) / stages;
-    return progress(from + static_cast<int>((to - from) * share), text);
-  };
-}
-
 gdm::DeformOptions deform_options(double a0, double a1, double a2, double lod, int refinements, int max_cycles,
                                   bool subvoxel_fit, double lod_tolerance) {
   gdm::DeformOptions o;
@@ -49,25 +30,6 @@ gdm::DeformOptions deform_options(double a0, double a1, double a2, double lod, i
   o.global_refinements = refinements;
   o.max_cycles = max_cycles;
   return o;
-}
-
-// Compacts the model and logs the outcome. gdm::deform ends with the model on
-// float-representable points (float_exact_output): MeshLab's float
-// coordinates keep the no-intersection guarantee.
-void finish_model(const gdm::DeformResult& r, gdm::Mesh& mesh, LogLines* log) {
-  mesh.garbage_collection();
-  if (r.float_refused > 0)
-    log->push_back("warning: " + std::to_string(r.float_refused) +
-                   " vertices could not be moved to float precision without a self-intersection");
-  log->push_back("deformation " + gdm::to_string(r.reason) + " after " + std::to_string(r.cycles) + " cycles (" +
-                 std::to_string(r.global_refinements) + " global refinements, " + std::to_string(r.rejected_moves) +
-                 " moves vetoed by the self-intersection guard)");
-  if (r.reason == gdm::StopReason::max_cycles || r.reason == gdm::StopReason::face_limit)
-    log->push_back("warning: the model did not converge; raise the maximum number of cycles or check the threshold");
-  if (r.border_vertices > 0)
-    log->push_back("warning: " + std::to_string(r.border_vertices) +
-                   " vertices reached the border of the volume: the object leaks (check threshold and polarity)");
-  log->push_back("result: " + gdm::to_string(gdm::measure(mesh)));
 }
 
 struct LoadedVolume {
@@ -213,102 +175,6 @@ gdm::Mesh deform_seed_in_volume(gdm::Mesh seed, const VolumeParams& v, const Pro
   if (result.reason == gdm::StopReason::cancelled) throw gdm::Error("cancelled");
   finish_model(result, seed, log);
   return seed;
-}
-
-gdm::Mesh shrink_wrap(const std::vector<Triangle>& input, const WrapParams& w, const Progress& progress,
-                      LogLines* log) {
-  if (!(w.cell_size > 0.0)) throw gdm::InvalidOption("the cell size must be positive");
-  if (!(w.tolerance >= w.cell_size))
-    throw gdm::InvalidOption("the tolerance (" + fmt(w.tolerance) + ") must be at least the cell size (" +
-                             fmt(w.cell_size) + "): the grid cannot resolve a closer wrap");
-  gdm::Vec3 lo = gdm::Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-  for (const auto& t : input)
-    for (const auto& p : t) {
-      lo = lo.cwiseMin(p);
-      hi = hi.cwiseMax(p);
-    }
-  if (input.empty()) throw gdm::InvalidOption("the current layer is empty: nothing to wrap");
-  // The wrap settles where the distance to the input is a third of the
-  // tolerance: in a concave crease of angle theta the offset surface's corner
-  // lies offset / sin(theta / 2) from the crease, so creases down to about
-  // 40 degrees stay within the tolerance.
-  const double offset = w.tolerance / 3.0;
-  const gdm::Vec3 centre = 0.5 * (lo + hi);
-  const double radius = 0.5 * (hi - lo).norm() + offset + 2.0 * w.cell_size;
-  WrapFieldOptions fo;
-  fo.cell_size = w.cell_size;
-  fo.offset = offset;
-  // The grid holds the seed sphere with a cell to spare.
-  const gdm::Vec3 sphere_lo = centre - gdm::Vec3::Constant(radius), sphere_hi = centre + gdm::Vec3::Constant(radius);
-  fo.padding = w.cell_size;
-  const gdm::Volume field = make_wrap_field(input, sphere_lo, sphere_hi, fo, [&](double f) {
-    return !progress || progress(static_cast<int>(20 * f), "Distance field of the input");
-  });
-  if (field.voxel_count() == 0) throw gdm::Error("cancelled");
-  log->push_back("distance field: " + std::to_string(field.dims()[0]) + " x " + std::to_string(field.dims()[1]) +
-                 " x " + std::to_string(field.dims()[2]) + " cells of " + fmt(w.cell_size) + " mm; the wrap settles " +
-                 fmt(offset) + " mm from the input");
-
-  // A geodesic sphere whose faces are about the level of detail.
-  const double sphere_area = 4.0 * M_PI * radius * radius;
-  const double lod_mm2 = w.lod_face_area * w.cell_size * w.cell_size;
-  int level = 0;
-  while (level < 5 && sphere_area / (20.0 * std::pow(4.0, level)) > 4.0 * lod_mm2) ++level;
-  gdm::Mesh mesh = gdm::make_geodesic_sphere(centre, radius, level);
-  log->push_back("seed: geodesic sphere of radius " + fmt(radius) + " mm, " + std::to_string(mesh.n_faces()) +
-                 " faces");
-
-  gdm::DeformOptions o = deform_options(w.a0, w.a1, w.a2, w.lod_face_area, w.global_refinements, w.max_cycles,
-                                        false, 0.0);
-  o.mode = gdm::Mode::shrink;
-  o.polarity = gdm::Polarity::object_darker;
-  o.threshold = offset;
-  // The fit and the error-driven level of detail do not check obstacles (off above).
-  const gdm::Obstacle obstacle(input);
-  o.obstacle = &obstacle;
-  const auto result =
-      gdm::deform(mesh, field, o, observer_for(progress, 20, 95, w.global_refinements + 1, "Shrinking the wrap"));
-  if (result.reason == gdm::StopReason::cancelled) throw gdm::Error("cancelled");
-  finish_model(result, mesh, log);
-
-  if (progress) progress(96, "Measuring the wrap");
-  const gdm::MeshReport report = gdm::measure(mesh);
-  if (!report.closed || !report.two_manifold || report.genus != 0 || report.self_intersections != 0)
-    throw gdm::Error("the wrap failed its checks (" + gdm::to_string(report) + ")");
-  // The wrap is on float points: MeshLab's rounding changes nothing. Check it.
-  {
-    gdm::Mesh rounded = mesh;
-    for (auto v : rounded.vertices())
-      rounded.set_point(v, gdm::to_point(gdm::round_to_float(gdm::to_eigen(rounded.point(v)))));
-    const std::size_t crossings = gdm::self_intersecting_pairs(rounded);
-    if (crossings > 0)
-      log->push_back("warning: " + std::to_string(crossings) +
-                     " face pairs intersect once the coordinates are rounded to MeshLab's float precision");
-  }
-  // Largest distances both ways, exact.
-  std::vector<Triangle> wrap_triangles;
-  for (auto f : mesh.faces()) {
-    Triangle t;
-    int k = 0;
-    for (auto v : mesh.fv_range(f)) t[k++] = gdm::to_eigen(mesh.point(v));
-    wrap_triangles.push_back(t);
-  }
-  const gdm::TriangleLocator to_wrap(std::move(wrap_triangles));
-  double input_to_wrap = 0.0;
-  for (const auto& t : input)
-    for (const auto& p : t) input_to_wrap = std::max(input_to_wrap, to_wrap.distance(p));
-  const gdm::TriangleLocator to_input(input);
-  double wrap_to_input = 0.0;
-  for (auto v : mesh.vertices()) wrap_to_input = std::max(wrap_to_input, to_input.distance(gdm::to_eigen(mesh.point(v))));
-  log->push_back("wrap: " + std::to_string(report.faces) + " faces, " + std::to_string(report.vertices) +
-                 " vertices, volume " + fmt(report.volume) + " mm^3, genus " + std::to_string(report.genus) +
-                 ", self-intersections " + std::to_string(report.self_intersections));
-  log->push_back("largest distance of the input from the wrap: " + fmt(input_to_wrap) + " mm (tolerance " +
-                 fmt(w.tolerance) + " mm); largest distance of the wrap from the input: " + fmt(wrap_to_input) + " mm");
-  if (input_to_wrap > w.tolerance)
-    log->push_back("warning: some input lies farther than the tolerance from the wrap (a concavity or hole "
-                   "wider than the level of detail); lower the level of detail or a2");
-  return mesh;
 }
 
 }  // namespace gdm_meshlab

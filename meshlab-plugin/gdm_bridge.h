@@ -12,13 +12,9 @@
 
 #include "gdm/deformer.h"
 #include "gdm/mesh.h"
-#include "shrink_wrap_field.h"
+#include "shrink_wrap.h"
 
 namespace gdm_meshlab {
-
-// percent in [0, 100] and a short text; returns false to cancel.
-using Progress = std::function<bool(int, const char*)>;
-using LogLines = std::vector<std::string>;
 
 // The closed 2-manifold triangle mesh of a MeshLab layer (deleted elements
 // skipped, coincident vertices kept apart). Throws gdm::InvalidSeed with the
@@ -62,20 +58,6 @@ gdm::Mesh model_from_volume(const VolumeParams& v, const SeedParams& s, const Pr
 // object, or shrunk onto it when v.shrink (the seed encloses the object).
 gdm::Mesh deform_seed_in_volume(gdm::Mesh seed, const VolumeParams& v, const Progress& progress, LogLines* log);
 
-struct WrapParams {
-  double cell_size = 1.0;     // mm
-  double tolerance = 2.0;     // mm: largest distance of the input from the wrap
-  double a0 = 1.0, a1 = 1.0, a2 = 5.0;
-  double lod_face_area = 10.0;  // cell^2
-  int global_refinements = 1;
-  int max_cycles = 2000;
-};
-
-// Filter 3: a closed, genus-0, intersection-free wrap shrunk from a sphere
-// around the triangles onto their distance field. The input is an obstacle
-// (gdm/obstacle.h): no face of the wrap ever touches it, so all of the input
-// stays inside the wrap, however thin its parts.
-gdm::Mesh shrink_wrap(const std::vector<Triangle>& input, const WrapParams& w, const Progress& progress,
-                      LogLines* log);
+// Filter 3, shrink_wrap, is in shrink_wrap.h.
 
 }  // namespace gdm_meshlab

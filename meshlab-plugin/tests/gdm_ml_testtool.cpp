@@ -3,10 +3,14 @@
 //   gdm_ml_testtool check <mesh> [--closed] [--manifold] [--genus g]
 //       [--no-self-intersection] [--faces lo hi] [--phantom-sphere maxvox]
 //       [--covers input.ply tol] [--no-contact input.ply] [--quality]
+//   gdm_ml_testtool wrap <input> <output> <cell> <tolerance> [coverage rounds]
+//       the shrink-wrap filter's work outside MeshLab, its log and time
 // Exit code 0 when every requested check passes; prints the measurements.
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <exception>
 #include <fstream>
 #include <random>
 #include <string>
@@ -19,6 +23,7 @@
 #include "gdm/obstacle.h"
 #include "gdm/phantoms.h"
 #include "gdm/seed.h"
+#include "shrink_wrap.h"
 #include "shrink_wrap_field.h"
 
 void write_volume(const gdm::Volume& volume, const std::string& path);
@@ -36,8 +41,9 @@ gdm::phantoms::Grid phantom_grid() {
 }
 const gdm::Vec3 kRadii(15.0, 12.0, 16.0);
 
-bool write(const gdm::Mesh& mesh, const std::string& path) {
-  if (!OpenMesh::IO::write_mesh(mesh, path)) {
+bool write(const gdm::Mesh& mesh, const std::string& path,
+           OpenMesh::IO::Options options = OpenMesh::IO::Options::Default) {
+  if (!OpenMesh::IO::write_mesh(mesh, path, options)) {
     std::fprintf(stderr, "cannot write %s\n", path.c_str());
     return false;
   }
@@ -56,6 +62,45 @@ gdm::Mesh without_faces(gdm::Mesh mesh, Cut cut) {
     if (cut(c)) mesh.delete_face(f, true);
   }
   mesh.garbage_collection();
+  return mesh;
+}
+
+// A block of 30 x 20 x 10 mm whose top is the height field z = -depth for
+// |x| < width / 2, z = 0 elsewhere (a slot along y), sampled in steps of
+// 0.5 mm (the slot's walls slope over one step); the bottom and the sides are
+// added as separate pieces (a soup: the wrap does not need them joined).
+gdm::Mesh slot_block(double width, double depth) {
+  gdm::Mesh mesh;
+  const double step = 0.5, half = 0.5 * width, bottom = -10.0;
+  const int nx = 61, ny = 41;
+  const auto top = [&](double x) { return std::abs(x) < half ? -depth : 0.0; };
+  const auto quad = [&](const gdm::Vec3& a, const gdm::Vec3& b, const gdm::Vec3& c, const gdm::Vec3& d) {
+    const auto va = mesh.add_vertex(gdm::to_point(a)), vb = mesh.add_vertex(gdm::to_point(b)),
+               vc = mesh.add_vertex(gdm::to_point(c)), vd = mesh.add_vertex(gdm::to_point(d));
+    mesh.add_face(va, vb, vc);
+    mesh.add_face(va, vc, vd);
+  };
+  std::vector<gdm::Mesh::VertexHandle> grid;
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      const double x = -15.0 + step * i, y = -10.0 + step * j;
+      grid.push_back(mesh.add_vertex(gdm::Mesh::Point(x, y, top(x))));
+    }
+  for (int j = 0; j + 1 < ny; ++j)
+    for (int i = 0; i + 1 < nx; ++i) {
+      const auto a = grid[j * nx + i], b = grid[j * nx + i + 1], c = grid[(j + 1) * nx + i + 1],
+                 d = grid[(j + 1) * nx + i];
+      mesh.add_face(a, b, c);
+      mesh.add_face(a, c, d);
+    }
+  quad({-15, -10, bottom}, {-15, 10, bottom}, {15, 10, bottom}, {15, -10, bottom});
+  for (int i = 0; i + 1 < nx; ++i) {  // the sides along x follow the slot's profile
+    const double x0 = -15.0 + step * i, x1 = x0 + step;
+    quad({x0, -10, bottom}, {x1, -10, bottom}, {x1, -10, top(x1)}, {x0, -10, top(x0)});
+    quad({x1, 10, bottom}, {x0, 10, bottom}, {x0, 10, top(x0)}, {x1, 10, top(x1)});
+  }
+  quad({15, -10, bottom}, {15, 10, bottom}, {15, 10, 0}, {15, -10, 0});
+  quad({-15, 10, bottom}, {-15, -10, bottom}, {-15, -10, 0}, {-15, 10, 0});
   return mesh;
 }
 
@@ -106,6 +151,11 @@ int inputs(const std::string& dir) {
       big.set_point(v, gdm::to_point(gdm::to_eigen(big.point(v)) + gdm::Vec3(jitter(rng), jitter(rng), jitter(rng))));
     if (!write(big, dir + "/wrap_noisy.ply")) return 1;
   }
+  // A block with a narrow slot across its top, 3 mm wide at the top, 2 mm at
+  // the floor, 6 mm deep: the wrap's first convergence spans the slot with
+  // faces longer than it is wide, its floor 2.5 mm from the wrap; the
+  // coverage rounds must reach in (meshlab_shrink_wrap_slot).
+  if (!write(slot_block(3.0, 6.0), dir + "/wrap_slot.ply")) return 1;
   std::printf("inputs written to %s\n", dir.c_str());
   return 0;
 }
@@ -190,11 +240,42 @@ int check(int argc, char** argv) {
   return failures == 0 ? 0 : 1;
 }
 
+// The input taken at float precision, as MeshLab hands it to the filter.
+int wrap(int argc, char** argv) {
+  gdm::Mesh input;
+  if (!OpenMesh::IO::read_mesh(input, argv[2])) {
+    std::fprintf(stderr, "cannot read %s\n", argv[2]);
+    return 1;
+  }
+  for (auto v : input.vertices())
+    input.set_point(v, gdm::to_point(gdm::round_to_float(gdm::to_eigen(input.point(v)))));
+  gdm_meshlab::WrapParams w;
+  w.cell_size = std::atof(argv[4]);
+  w.tolerance = std::atof(argv[5]);
+  if (argc > 6) w.coverage_rounds = std::atoi(argv[6]);
+  gdm_meshlab::LogLines log;
+  const auto start = std::chrono::steady_clock::now();
+  gdm::Mesh mesh;
+  try {
+    mesh = gdm_meshlab::shrink_wrap(soup(input), w, {}, &log);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "Error: %s\n", e.what());
+    return 1;
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  for (const auto& l : log) std::printf("%s\n", l.c_str());
+  std::printf("wrap time %.2f s\n", seconds);
+  return write(mesh, argv[3], OpenMesh::IO::Options::Binary) ? 0 : 1;  // float coordinates, exact
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   if (argc >= 3 && std::string(argv[1]) == "inputs") return inputs(argv[2]);
   if (argc >= 3 && std::string(argv[1]) == "check") return check(argc, argv);
-  std::fprintf(stderr, "usage: gdm_ml_testtool inputs <dir> | check <mesh> [checks...]\n");
+  if (argc >= 6 && std::string(argv[1]) == "wrap") return wrap(argc, argv);
+  std::fprintf(stderr,
+               "usage: gdm_ml_testtool inputs <dir> | check <mesh> [checks...] | "
+               "wrap <in> <out> <cell> <tol> [rounds]\n");
   return 2;
 }
