@@ -29,6 +29,7 @@ gdm_meshlab::VolumeParams volumeParams(const RichParameterList &par)
 	v.global_refinements = par.getInt("GlobalRefinements");
 	v.max_cycles = par.getInt("MaxCycles");
 	v.subvoxel_fit = par.getBool("SubvoxelFit");
+	v.fit_smoothing = par.getFloat("FitSmoothing");
 	v.lod_tolerance = par.getFloat("ErrorTolerance");
 	return v;
 }
@@ -171,6 +172,12 @@ void FilterGdmPlugin::addAccuracyParameters(RichParameterList &par, const QStrin
 		"crossing of the trilinear field (at most 1 " + lodUnit.section('^', 0, 0) + "), every move checked "
 		"against self-intersection. Removes the quarter-voxel shortfall of the smallest step and the "
 		"curvature term's inward pull. Default: on."));
+	par.addParam(RichFloat("FitSmoothing", 0.5f, "Fit smoothing (0 = off)",
+		"Beyond the paper: noise-adaptive smoothing of the sub-voxel fit. Each vertex is also drawn toward the "
+		"quadric fitted over its two rings of neighbours, the more so the closer it stands to it compared with "
+		"this many times the image noise measured on the model: noise is smoothed away without shrinking "
+		"spheres or tubes, while edges and corners keep their data. 0 to 5; 0 follows the data alone. "
+		"Default: 0.5."));
 	par.addParam(RichFloat("ErrorTolerance", 0.0f, "Error tolerance (" + lodUnit.section('^', 0, 0) + ", 0 = off)",
 		"Beyond the paper: error-driven level of detail. Faces whose surface deviates from the threshold surface "
 		"by more than this are split; edges are collapsed where the new faces stay within half of it (few faces "

@@ -18,20 +18,6 @@ std::string fmt(double v) {
   return s.str();
 }
 
-gdm::DeformOptions deform_options(double a0, double a1, double a2, double lod, int refinements, int max_cycles,
-                                  bool subvoxel_fit, double lod_tolerance) {
-  gdm::DeformOptions o;
-  o.subvoxel_fit = subvoxel_fit;
-  o.lod_tolerance = lod_tolerance;
-  o.a0 = a0;
-  o.a1 = a1;
-  o.a2 = a2;
-  o.lod_face_area = lod;
-  o.global_refinements = refinements;
-  o.max_cycles = max_cycles;
-  return o;
-}
-
 struct LoadedVolume {
   gdm::Volume volume;
   double threshold;
@@ -54,9 +40,16 @@ LoadedVolume load(const VolumeParams& v, LogLines* log) {
 }
 
 gdm::DeformOptions volume_options(const VolumeParams& v, double threshold) {
-  gdm::DeformOptions o =
-      deform_options(v.a0, v.a1, v.a2, v.lod_face_area, v.global_refinements, v.max_cycles, v.subvoxel_fit,
-                     v.lod_tolerance);
+  gdm::DeformOptions o;
+  o.a0 = v.a0;
+  o.a1 = v.a1;
+  o.a2 = v.a2;
+  o.lod_face_area = v.lod_face_area;
+  o.global_refinements = v.global_refinements;
+  o.max_cycles = v.max_cycles;
+  o.subvoxel_fit = v.subvoxel_fit;
+  o.fit_smoothing = v.fit_smoothing;
+  o.lod_tolerance = v.lod_tolerance;
   o.threshold = threshold;
   o.polarity = v.object_darker ? gdm::Polarity::object_darker : gdm::Polarity::object_brighter;
   o.mode = v.shrink ? gdm::Mode::shrink : gdm::Mode::grow;

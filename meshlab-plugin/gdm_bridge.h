@@ -42,6 +42,7 @@ struct VolumeParams {
   int global_refinements = 1;
   int max_cycles = 2000;
   bool subvoxel_fit = true;       // final fit onto the threshold crossing
+  double fit_smoothing = 0.5;     // the fit's noise-adaptive smoothing, [0, 5]; 0 = off
   double lod_tolerance = 0.0;     // error-driven level of detail, voxels; 0 = off
 };
 
