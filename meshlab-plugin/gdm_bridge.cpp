@@ -1,7 +1,6 @@
 #include "gdm_bridge.h"
 
 #include <array>
-#include <sstream>
 
 #include "gdm/errors.h"
 #include "gdm/mesh_checks.h"
@@ -10,13 +9,6 @@
 
 namespace gdm_meshlab {
 namespace {
-
-std::string fmt(double v) {
-  std::ostringstream s;
-  s.precision(4);
-  s << v;
-  return s.str();
-}
 
 struct LoadedVolume {
   gdm::Volume volume;

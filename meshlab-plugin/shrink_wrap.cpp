@@ -17,7 +17,6 @@
 #include "gdm/triangle_locator.h"
 
 namespace gdm_meshlab {
-namespace {
 
 std::string fmt(double v) {
   std::ostringstream s;
@@ -25,8 +24,6 @@ std::string fmt(double v) {
   s << v;
   return s.str();
 }
-
-}  // namespace
 
 // Each stage (the first convergence and every global refinement) gets an
 // equal share, filled asymptotically as its cycles go by.

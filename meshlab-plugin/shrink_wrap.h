@@ -29,6 +29,9 @@ struct WrapParams {
   int coverage_rounds = 4;    // local refinement rounds while input lies beyond 90% of the tolerance; 0 = off
 };
 
+// A number with four significant digits, for the log lines.
+std::string fmt(double v);
+
 // Maps the deformation cycles of `stages` stages onto [from, to] percent.
 gdm::DeformObserver observer_for(const Progress& progress, int from, int to, int stages, const char* text);
 
