@@ -14,6 +14,17 @@ const char *const kReference =
 	"<b>\"Geometrically Deformed Models: A Method for Extracting Closed Geometric Models from Volume Data\"</b><br>"
 	"Computer Graphics (SIGGRAPH '91), 25(4), pages 217-226.";
 
+// The deformation parameters every filter has (addWeightParameters).
+void read_model_params(const RichParameterList &par, gdm_meshlab::ModelParams &m)
+{
+	m.a0 = par.getFloat("a0");
+	m.a1 = par.getFloat("a1");
+	m.a2 = par.getFloat("a2");
+	m.lod_face_area = par.getFloat("LevelOfDetail");
+	m.global_refinements = par.getInt("GlobalRefinements");
+	m.max_cycles = par.getInt("MaxCycles");
+}
+
 gdm_meshlab::VolumeParams volumeParams(const RichParameterList &par)
 {
 	gdm_meshlab::VolumeParams v;
@@ -22,12 +33,7 @@ gdm_meshlab::VolumeParams volumeParams(const RichParameterList &par)
 	v.threshold = par.getFloat("Threshold");
 	v.object_darker = par.getEnum("Polarity") == 1;
 	v.smoothing_sigma = par.getFloat("Smoothing");
-	v.a0 = par.getFloat("a0");
-	v.a1 = par.getFloat("a1");
-	v.a2 = par.getFloat("a2");
-	v.lod_face_area = par.getFloat("LevelOfDetail");
-	v.global_refinements = par.getInt("GlobalRefinements");
-	v.max_cycles = par.getInt("MaxCycles");
+	read_model_params(par, v);
 	v.subvoxel_fit = par.getBool("SubvoxelFit");
 	v.fit_smoothing = par.getFloat("FitSmoothing");
 	v.lod_tolerance = par.getFloat("ErrorTolerance");
@@ -294,12 +300,7 @@ bool FilterGdmPlugin::applyFilter(QAction *action, MeshDocument &md, const RichP
 			gdm_meshlab::WrapParams w;
 			w.cell_size = par.getAbsPerc("CellSize");
 			w.tolerance = par.getAbsPerc("Tolerance");
-			w.a0 = par.getFloat("a0");
-			w.a1 = par.getFloat("a1");
-			w.a2 = par.getFloat("a2");
-			w.lod_face_area = par.getFloat("LevelOfDetail");
-			w.global_refinements = par.getInt("GlobalRefinements");
-			w.max_cycles = par.getInt("MaxCycles");
+			read_model_params(par, w);
 			const gdm::Mesh mesh =
 				gdm_meshlab::shrink_wrap(gdm_meshlab::triangle_soup(current->cm), w, progress, &log);
 			flushLog();

@@ -32,13 +32,7 @@ LoadedVolume load(const VolumeParams& v, LogLines* log) {
 }
 
 gdm::DeformOptions volume_options(const VolumeParams& v, double threshold) {
-  gdm::DeformOptions o;
-  o.a0 = v.a0;
-  o.a1 = v.a1;
-  o.a2 = v.a2;
-  o.lod_face_area = v.lod_face_area;
-  o.global_refinements = v.global_refinements;
-  o.max_cycles = v.max_cycles;
+  gdm::DeformOptions o = model_options(v);
   o.subvoxel_fit = v.subvoxel_fit;
   o.fit_smoothing = v.fit_smoothing;
   o.lod_tolerance = v.lod_tolerance;

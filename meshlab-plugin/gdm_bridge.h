@@ -30,17 +30,13 @@ void to_meshlab(const gdm::Mesh& mesh, CMeshO& out);
 std::vector<Triangle> triangle_soup(const CMeshO& m);
 
 // What the volume filters share.
-struct VolumeParams {
+struct VolumeParams : ModelParams {
   std::string volume_file;
   bool auto_threshold = false;
   double threshold = 0.0;
   bool object_darker = false;
   bool shrink = false;            // deform_seed_in_volume: the seed encloses the object
   double smoothing_sigma = 0.0;  // mm, 0 = off
-  double a0 = 1.0, a1 = 1.0, a2 = 5.0;
-  double lod_face_area = 10.0;    // voxel^2
-  int global_refinements = 1;
-  int max_cycles = 2000;
   bool subvoxel_fit = true;       // final fit onto the threshold crossing
   double fit_smoothing = 0.5;     // the fit's noise-adaptive smoothing, [0, 5]; 0 = off
   double lod_tolerance = 0.0;     // error-driven level of detail, voxels; 0 = off

@@ -18,6 +18,17 @@
 
 namespace gdm_meshlab {
 
+gdm::DeformOptions model_options(const ModelParams& m) {
+  gdm::DeformOptions o;
+  o.a0 = m.a0;
+  o.a1 = m.a1;
+  o.a2 = m.a2;
+  o.lod_face_area = m.lod_face_area;
+  o.global_refinements = m.global_refinements;
+  o.max_cycles = m.max_cycles;
+  return o;
+}
+
 std::string fmt(double v) {
   std::ostringstream s;
   s.precision(4);
@@ -192,13 +203,7 @@ gdm::Mesh shrink_wrap(const std::vector<Triangle>& input, const WrapParams& w, c
   log->push_back("seed: geodesic sphere of radius " + fmt(radius) + " mm, " + std::to_string(mesh.n_faces()) +
                  " faces");
 
-  gdm::DeformOptions o;
-  o.a0 = w.a0;
-  o.a1 = w.a1;
-  o.a2 = w.a2;
-  o.lod_face_area = w.lod_face_area;
-  o.global_refinements = w.global_refinements;
-  o.max_cycles = w.max_cycles;
+  gdm::DeformOptions o = model_options(w);
   o.subvoxel_fit = false;
   o.lod_tolerance = 0.0;
   o.mode = gdm::Mode::shrink;

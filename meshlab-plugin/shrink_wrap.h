@@ -19,13 +19,20 @@ namespace gdm_meshlab {
 using Progress = std::function<bool(int, const char*)>;
 using LogLines = std::vector<std::string>;
 
-struct WrapParams {
-  double cell_size = 1.0;     // mm
-  double tolerance = 2.0;     // mm: largest distance of the input from the wrap
-  double a0 = 1.0, a1 = 1.0, a2 = 5.0;
-  double lod_face_area = 10.0;  // cell^2
+// The deformation parameters every filter takes (Table 2 and section 6).
+struct ModelParams {
+  double a0 = 1.0, a1 = 1.0, a2 = 5.0;  // weights of eq. 1
+  double lod_face_area = 10.0;          // voxel^2 (cell^2 for the wrap)
   int global_refinements = 1;
   int max_cycles = 2000;
+};
+
+// DeformOptions carrying m, the rest at their defaults.
+gdm::DeformOptions model_options(const ModelParams& m);
+
+struct WrapParams : ModelParams {
+  double cell_size = 1.0;     // mm
+  double tolerance = 2.0;     // mm: largest distance of the input from the wrap
   int coverage_rounds = 4;    // local refinement rounds while input lies beyond 90% of the tolerance; 0 = off
 };
 
