@@ -4,7 +4,6 @@
 #include <cmath>
 #include <limits>
 
-#include "gdm/cell_hash.h"
 #include "gdm/errors.h"
 #include "gdm/predicates.h"
 
@@ -15,10 +14,6 @@ namespace {
 constexpr std::array<int, 3> kModelIds{-1, -2, -3};
 constexpr std::array<int, 3> kObstacleIds{-4, -5, -6};
 }  // namespace
-
-Obstacle::Key Obstacle::key(int x, int y, int z) const { return cell_key(x, y, z); }
-
-std::array<int, 3> Obstacle::cell_of(const Vec3& p) const { return gdm::cell_of(p, cell_); }
 
 Obstacle::Obstacle(std::vector<Triangle> triangles) : triangles_(std::move(triangles)) {
   Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
@@ -34,18 +29,12 @@ Obstacle::Obstacle(std::vector<Triangle> triangles) : triangles_(std::move(trian
   if (triangles_.empty()) return;
   // About two mean edges a cell, and at most ~2 million cells over the box.
   const double mean_edge = edges / static_cast<double>(triangles_.size());
-  cell_ = std::max(2.0 * mean_edge, (hi - lo).maxCoeff() / 128.0);
-  if (!(cell_ > 0.0)) cell_ = 1.0;  // a single point (or copies of it)
-  lo_.reserve(triangles_.size());
-  hi_.reserve(triangles_.size());
+  double cell = std::max(2.0 * mean_edge, (hi - lo).maxCoeff() / 128.0);
+  if (!(cell > 0.0)) cell = 1.0;  // a single point (or copies of it)
+  grid_.reset(cell, 0.0);
   for (std::size_t i = 0; i < triangles_.size(); ++i) {
     const auto& t = triangles_[i];
-    lo_.push_back(t[0].cwiseMin(t[1]).cwiseMin(t[2]));
-    hi_.push_back(t[0].cwiseMax(t[1]).cwiseMax(t[2]));
-    const auto a = cell_of(lo_.back()), b = cell_of(hi_.back());
-    for (int x = a[0]; x <= b[0]; ++x)
-      for (int y = a[1]; y <= b[1]; ++y)
-        for (int z = a[2]; z <= b[2]; ++z) cells_[key(x, y, z)].push_back(static_cast<int>(i));
+    grid_.insert_box(static_cast<int>(i), t[0].cwiseMin(t[1]).cwiseMin(t[2]), t[0].cwiseMax(t[1]).cwiseMax(t[2]));
   }
 }
 
@@ -54,26 +43,16 @@ bool Obstacle::blocks(const Triangle& t) const {
   const Vec3 lo = t[0].cwiseMin(t[1]).cwiseMin(t[2]);
   const Vec3 hi = t[0].cwiseMax(t[1]).cwiseMax(t[2]);
   const auto touches = [&](int i) {
-    if ((lo_[i].array() > hi.array()).any() || (hi_[i].array() < lo.array()).any()) return false;
     return triangles_intersect_improperly(t, kModelIds, triangles_[i], kObstacleIds);
   };
   // A box far larger than the obstacle's cells: test every triangle once.
-  const Vec3 span = (hi - lo) / cell_;
-  if (!((span.array() + 1.0).prod() < static_cast<double>(4 * cells_.size() + 64))) {
+  const Vec3 span = (hi - lo) / grid_.cell_size();
+  if (!((span.array() + 1.0).prod() < static_cast<double>(4 * grid_.cell_count() + 64))) {
     for (std::size_t i = 0; i < triangles_.size(); ++i)
-      if (touches(static_cast<int>(i))) return true;
+      if (grid_.box_meets(static_cast<int>(i), lo, hi) && touches(static_cast<int>(i))) return true;
     return false;
   }
-  const auto a = cell_of(lo), b = cell_of(hi);
-  for (int x = a[0]; x <= b[0]; ++x)
-    for (int y = a[1]; y <= b[1]; ++y)
-      for (int z = a[2]; z <= b[2]; ++z) {
-        const auto it = cells_.find(key(x, y, z));
-        if (it == cells_.end()) continue;
-        for (int i : it->second)
-          if (touches(i)) return true;
-      }
-  return false;
+  return grid_.any_near(lo, hi, touches);
 }
 
 bool Obstacle::blocks_move(const Mesh& mesh, Mesh::VertexHandle v, const Vec3& p) const {

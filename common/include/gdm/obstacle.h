@@ -7,10 +7,9 @@
 #pragma once
 
 #include <array>
-#include <cstdint>
-#include <unordered_map>
 #include <vector>
 
+#include "gdm/face_grid.h"
 #include "gdm/mesh.h"
 
 namespace gdm {
@@ -31,14 +30,8 @@ class Obstacle {
   std::size_t size() const { return triangles_.size(); }
 
  private:
-  using Key = std::uint64_t;
-  Key key(int x, int y, int z) const;
-  std::array<int, 3> cell_of(const Vec3& p) const;
-
   std::vector<Triangle> triangles_;
-  std::vector<Vec3> lo_, hi_;  // per triangle bounding box
-  double cell_ = 1.0;
-  std::unordered_map<Key, std::vector<int>> cells_;
+  FaceGrid grid_;  // over the triangles' boxes, no margin (the obstacle does not move)
 };
 
 }  // namespace gdm

@@ -1,0 +1,94 @@
+// A uniform grid over triangle bounding boxes: the broad phase of the exact
+// intersection tests (the self-intersection guard, the error-driven level of
+// detail's collapse checks, obstacles).
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+#include "gdm/mesh.h"
+
+namespace gdm {
+
+// Boxes are inflated by a margin so that a face stays inside its registered
+// cells while its vertices move by up to that margin; rebuilding once per
+// cycle then suffices. Faces are identified by an index (a mesh face's idx(),
+// or any numbering of a triangle list).
+class FaceGrid {
+ public:
+  // An empty grid with this cell size and margin.
+  void reset(double cell_size, double margin);
+  // reset(), then every face of the mesh registered.
+  void rebuild(const Mesh& mesh, double cell_size, double margin);
+  // Registers a face's current box (extra entries are harmless).
+  void insert(const Mesh& mesh, Mesh::FaceHandle f);
+  // Registers a box for a face (inflated by the margin).
+  void insert_box(int face, Vec3 lo, Vec3 hi);
+
+  // Does the union of the face's registered boxes meet the box [lo, hi]?
+  bool box_meets(int face, const Vec3& lo, const Vec3& hi) const {
+    return !((box_lo_[face].array() > hi.array()).any() || (box_hi_[face].array() < lo.array()).any());
+  }
+  // Calls visit(face index) once for every face registered in a cell the box
+  // touches whose registered box meets it.
+  template <class Visit>
+  void for_each_near(const Vec3& lo, const Vec3& hi, Visit&& visit);
+  // The same faces, possibly more than once, without touching the grid's
+  // state; stops and returns true at the first face for which test(face) is.
+  template <class Test>
+  bool any_near(const Vec3& lo, const Vec3& hi, Test&& test) const;
+
+  double cell_size() const { return cell_size_; }
+  std::size_t cell_count() const { return cells_.size(); }
+
+ private:
+  using Key = std::uint64_t;
+  Key key(int x, int y, int z) const;
+  std::array<int, 3> cell_of(const Vec3& p) const;
+
+  double cell_size_ = 1.0;
+  double margin_ = 0.0;
+  std::unordered_map<Key, std::vector<int>> cells_;
+  std::vector<Vec3> box_lo_, box_hi_;  // per face: union of its registered (inflated) boxes
+  std::vector<std::uint32_t> stamp_;
+  std::uint32_t current_stamp_ = 0;
+};
+
+template <class Visit>
+inline void FaceGrid::for_each_near(const Vec3& lo, const Vec3& hi, Visit&& visit) {
+  if (++current_stamp_ == 0) {
+    std::fill(stamp_.begin(), stamp_.end(), 0);
+    current_stamp_ = 1;
+  }
+  const auto a = cell_of(lo), b = cell_of(hi);
+  for (int x = a[0]; x <= b[0]; ++x)
+    for (int y = a[1]; y <= b[1]; ++y)
+      for (int z = a[2]; z <= b[2]; ++z) {
+        const auto it = cells_.find(key(x, y, z));
+        if (it == cells_.end()) continue;
+        for (int f : it->second) {
+          if (stamp_[f] == current_stamp_) continue;
+          stamp_[f] = current_stamp_;
+          if (box_meets(f, lo, hi)) visit(f);
+        }
+      }
+}
+
+template <class Test>
+inline bool FaceGrid::any_near(const Vec3& lo, const Vec3& hi, Test&& test) const {
+  const auto a = cell_of(lo), b = cell_of(hi);
+  for (int x = a[0]; x <= b[0]; ++x)
+    for (int y = a[1]; y <= b[1]; ++y)
+      for (int z = a[2]; z <= b[2]; ++z) {
+        const auto it = cells_.find(key(x, y, z));
+        if (it == cells_.end()) continue;
+        for (int f : it->second)
+          if (box_meets(f, lo, hi) && test(f)) return true;
+      }
+  return false;
+}
+
+}  // namespace gdm
