@@ -237,24 +237,8 @@ VertexNeighbourhood Deformer::neighbourhood(Mesh::VertexHandle v) const {
   // Normal over the faces within `normal_rings` rings: the faces around v and,
   // for 2 rings, the faces adjacent to them (section 7: a larger neighbourhood
   // is more stable; too large is inaccurate).
-  std::vector<int> ring_vertices{v.idx()};
-  std::size_t begin = 0;
-  for (int r = 1; r < o_.normal_rings; ++r) {
-    const std::size_t end = ring_vertices.size();
-    for (std::size_t i = begin; i < end; ++i)
-      for (auto w : mesh_.vv_range(Mesh::VertexHandle(ring_vertices[i]))) ring_vertices.push_back(w.idx());
-    std::sort(ring_vertices.begin() + static_cast<long>(end), ring_vertices.end());
-    ring_vertices.erase(std::unique(ring_vertices.begin() + static_cast<long>(end), ring_vertices.end()),
-                        ring_vertices.end());
-    begin = end;
-  }
-  std::vector<int> faces;
-  for (int u : ring_vertices)
-    for (auto f : mesh_.vf_range(Mesh::VertexHandle(u))) faces.push_back(f.idx());
-  std::sort(faces.begin(), faces.end());
-  faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
   Vec3 normal = Vec3::Zero();
-  for (int f : faces) normal += face_normal_[f];
+  for (int f : faces_around(mesh_, vertices_within(mesh_, v, o_.normal_rings - 1))) normal += face_normal_[f];
   const double len = normal.norm();
   n.normal = len > 0.0 ? Vec3(normal / len) : Vec3::UnitZ();
 

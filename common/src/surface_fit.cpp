@@ -82,26 +82,8 @@ Vec3 face_normal(const Mesh& mesh, Mesh::FaceHandle f) {
 
 // The unit normal over the faces within `rings` rings of v (section 7).
 Vec3 smoothed_normal(const Mesh& mesh, Mesh::VertexHandle v, int rings) {
-  std::vector<int> verts;
-  verts.reserve(32);
-  verts.push_back(v.idx());
-  std::size_t begin = 0;
-  for (int r = 1; r < rings; ++r) {
-    const std::size_t end = verts.size();
-    for (std::size_t i = begin; i < end; ++i)
-      for (auto w : mesh.vv_range(Mesh::VertexHandle(verts[i]))) verts.push_back(w.idx());
-    std::sort(verts.begin() + static_cast<long>(end), verts.end());
-    verts.erase(std::unique(verts.begin() + static_cast<long>(end), verts.end()), verts.end());
-    begin = end;
-  }
-  std::vector<int> faces;
-  faces.reserve(8 * verts.size());
-  for (int u : verts)
-    for (auto f : mesh.vf_range(Mesh::VertexHandle(u))) faces.push_back(f.idx());
-  std::sort(faces.begin(), faces.end());
-  faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
   Vec3 n = Vec3::Zero();
-  for (int f : faces) n += face_normal(mesh, Mesh::FaceHandle(f));
+  for (int f : faces_around(mesh, vertices_within(mesh, v, rings - 1))) n += face_normal(mesh, Mesh::FaceHandle(f));
   const double len = n.norm();
   return len > 0.0 ? Vec3(n / len) : Vec3::Zero();
 }
@@ -112,15 +94,8 @@ Vec3 smoothed_normal(const Mesh& mesh, Mesh::VertexHandle v, int rings) {
 // order), so drawing a vertex toward it smooths noise without the shrinkage
 // of Laplacian smoothing. NaN when the ring is too small to fit.
 double height_above_quadric(const Mesh& mesh, Mesh::VertexHandle v, const Vec3& n) {
-  std::vector<int> ring;
-  ring.reserve(24);
-  for (auto w : mesh.vv_range(v)) ring.push_back(w.idx());
-  const std::size_t first = ring.size();
-  for (std::size_t j = 0; j < first; ++j)
-    for (auto w : mesh.vv_range(Mesh::VertexHandle(ring[j])))
-      if (w != v) ring.push_back(w.idx());
-  std::sort(ring.begin(), ring.end());
-  ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
+  std::vector<int> ring = vertices_within(mesh, v, 2);
+  ring.erase(std::find(ring.begin(), ring.end(), v.idx()));
   if (ring.size() < 9) return std::numeric_limits<double>::quiet_NaN();
   const Vec3 p = pos(mesh, v), t1 = n.unitOrthogonal(), t2 = n.cross(t1);
   // Normal equations in coordinates scaled by the ring's extent (keeps them

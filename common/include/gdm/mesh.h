@@ -1,6 +1,9 @@
 // The triangle mesh type shared by every part of gdm.
 #pragma once
 
+#include <algorithm>
+#include <vector>
+
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -24,6 +27,35 @@ inline Mesh::Point to_point(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
 }  // namespace gdm
 
 namespace gdm {
+
+// v and every vertex within `rings` edges of it, each once, sorted by index
+// (rings <= 0: v alone).
+inline std::vector<int> vertices_within(const Mesh& mesh, Mesh::VertexHandle v, int rings) {
+  std::vector<int> found{v.idx()};
+  std::size_t begin = 0;
+  for (int r = 0; r < rings; ++r) {
+    const std::size_t end = found.size();
+    for (std::size_t i = begin; i < end; ++i)
+      for (auto w : mesh.vv_range(Mesh::VertexHandle(found[i]))) found.push_back(w.idx());
+    std::sort(found.begin() + static_cast<long>(end), found.end());
+    found.erase(std::unique(found.begin() + static_cast<long>(end), found.end()), found.end());
+    begin = end;
+  }
+  std::sort(found.begin(), found.end());
+  found.erase(std::unique(found.begin(), found.end()), found.end());
+  return found;
+}
+
+// The faces around any of the vertices, each once, sorted by index.
+inline std::vector<int> faces_around(const Mesh& mesh, const std::vector<int>& vertices) {
+  std::vector<int> faces;
+  faces.reserve(8 * vertices.size());
+  for (int u : vertices)
+    for (auto f : mesh.vf_range(Mesh::VertexHandle(u))) faces.push_back(f.idx());
+  std::sort(faces.begin(), faces.end());
+  faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+  return faces;
+}
 
 // The per-vertex generation (the deformation cycle that created the vertex,
 // paper section 6.4, Fig. 11), stored as the OpenMesh property "v:generation".
