@@ -215,6 +215,16 @@ gdm::MeshReport measure(const Mesh& m) {
   return gdm::measure(mesh);
 }
 
+// Every guarantee of a gdm model: closed, 2-manifold, one component, genus 0,
+// no self-intersecting face pair.
+void expect_valid_model(const gdm::MeshReport& r) {
+  EXPECT_TRUE(r.closed) << gdm::to_string(r);
+  EXPECT_TRUE(r.two_manifold) << gdm::to_string(r);
+  EXPECT_EQ(r.components, 1) << gdm::to_string(r);
+  EXPECT_EQ(r.genus, 0) << gdm::to_string(r);
+  EXPECT_EQ(r.self_intersections, 0u) << gdm::to_string(r);
+}
+
 std::array<double, 6> bounds(const Mesh& m) {
   std::array<double, 6> b{1e300, 1e300, 1e300, -1e300, -1e300, -1e300};
   for (const auto& p : m.points)
@@ -379,12 +389,7 @@ TEST(Formats, SameMeshFromMhaNrrdNiftiDicom) {
     EXPECT_GE(mesh_box[d + 3], voxel_box[d + 3] - 0.1 * spacing[d]) << "high bound, axis " << d;
     EXPECT_LE(mesh_box[d + 3], voxel_box[d + 3] + spacing[d] + slack) << "high bound, axis " << d;
   }
-  const gdm::MeshReport r = measure(reference);
-  EXPECT_TRUE(r.closed);
-  EXPECT_TRUE(r.two_manifold);
-  EXPECT_EQ(r.components, 1);
-  EXPECT_EQ(r.genus, 0);
-  EXPECT_EQ(r.self_intersections, 0u);
+  expect_valid_model(measure(reference));
 }
 
 // A folder with two series: gdm takes the one with most slices and says so,
@@ -627,11 +632,7 @@ TEST(Model, ErrorDrivenLevelOfDetail) {
   const Mesh mesh_b = read_mesh(dir / "b.ply");
   const gdm::MeshReport ra = measure(mesh_a);
   const gdm::MeshReport rb = measure(mesh_b);
-  EXPECT_TRUE(rb.closed);
-  EXPECT_TRUE(rb.two_manifold);
-  EXPECT_EQ(rb.components, 1);
-  EXPECT_EQ(rb.genus, 0);
-  EXPECT_EQ(rb.self_intersections, 0u);
+  expect_valid_model(rb);
   EXPECT_NE(mesh_b.faces.size(), mesh_a.faces.size());
   EXPECT_EQ(static_cast<double>(mesh_b.faces.size()), json_value(b, "faces"));
   // Both describe the same object: within 1% of each other's volume.

@@ -49,6 +49,14 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
+// Flying edges at `level`, the surface only (no normals, gradients or scalars).
+void extract_surface_at(vtkFlyingEdges3D* fe, double level) {
+  fe->SetValue(0, level);
+  fe->ComputeNormalsOff();
+  fe->ComputeGradientsOff();
+  fe->ComputeScalarsOff();
+}
+
 // Wraps the image's buffer without copying (VTK only reads it).
 vtkSmartPointer<vtkImageData> to_vtk(const Image& image) {
   auto data = vtkSmartPointer<vtkImageData>::New();
@@ -122,10 +130,7 @@ PeerResult run_flying_edges(const Image& image, double threshold) {
   auto data = to_vtk(image);
   vtkNew<vtkFlyingEdges3D> fe;
   fe->SetInputData(data);
-  fe->SetValue(0, threshold);
-  fe->ComputeNormalsOff();
-  fe->ComputeGradientsOff();
-  fe->ComputeScalarsOff();
+  extract_surface_at(fe, threshold);
   const auto t0 = Clock::now();
   fe->Update();
   PeerResult r;
@@ -138,10 +143,7 @@ PeerResult run_slicer_chain(const Image& image, double threshold, std::size_t ta
   auto data = to_vtk(image);
   vtkNew<vtkFlyingEdges3D> fe;
   fe->SetInputData(data);
-  fe->SetValue(0, threshold);
-  fe->ComputeNormalsOff();
-  fe->ComputeGradientsOff();
-  fe->ComputeScalarsOff();
+  extract_surface_at(fe, threshold);
   vtkNew<vtkWindowedSincPolyDataFilter> smooth;
   smooth->SetInputConnection(fe->GetOutputPort());
   smooth->SetNumberOfIterations(20);
@@ -178,10 +180,7 @@ Surface iso_surface(const Image& image, double level, int upsample) {
   for (int a = 0; a < 3; ++a) resample->SetAxisMagnificationFactor(a, upsample);
   vtkNew<vtkFlyingEdges3D> fe;
   fe->SetInputConnection(resample->GetOutputPort());
-  fe->SetValue(0, level);
-  fe->ComputeNormalsOff();
-  fe->ComputeGradientsOff();
-  fe->ComputeScalarsOff();
+  extract_surface_at(fe, level);
   fe->Update();
   return to_surface(fe->GetOutput());
 }
