@@ -48,6 +48,9 @@ class FaceGrid {
   using Key = std::uint64_t;
   Key key(int x, int y, int z) const;
   std::array<int, 3> cell_of(const Vec3& p) const;
+  // Calls scan(face) for every entry of the cells the box touches, until it returns true.
+  template <class Scan>
+  bool scan_cells(const Vec3& lo, const Vec3& hi, Scan&& scan) const;
 
   double cell_size_ = 1.0;
   double margin_ = 0.0;
@@ -57,28 +60,8 @@ class FaceGrid {
   std::uint32_t current_stamp_ = 0;
 };
 
-template <class Visit>
-inline void FaceGrid::for_each_near(const Vec3& lo, const Vec3& hi, Visit&& visit) {
-  if (++current_stamp_ == 0) {
-    std::fill(stamp_.begin(), stamp_.end(), 0);
-    current_stamp_ = 1;
-  }
-  const auto a = cell_of(lo), b = cell_of(hi);
-  for (int x = a[0]; x <= b[0]; ++x)
-    for (int y = a[1]; y <= b[1]; ++y)
-      for (int z = a[2]; z <= b[2]; ++z) {
-        const auto it = cells_.find(key(x, y, z));
-        if (it == cells_.end()) continue;
-        for (int f : it->second) {
-          if (stamp_[f] == current_stamp_) continue;
-          stamp_[f] = current_stamp_;
-          if (box_meets(f, lo, hi)) visit(f);
-        }
-      }
-}
-
-template <class Test>
-inline bool FaceGrid::any_near(const Vec3& lo, const Vec3& hi, Test&& test) const {
+template <class Scan>
+inline bool FaceGrid::scan_cells(const Vec3& lo, const Vec3& hi, Scan&& scan) const {
   const auto a = cell_of(lo), b = cell_of(hi);
   for (int x = a[0]; x <= b[0]; ++x)
     for (int y = a[1]; y <= b[1]; ++y)
@@ -86,9 +69,28 @@ inline bool FaceGrid::any_near(const Vec3& lo, const Vec3& hi, Test&& test) cons
         const auto it = cells_.find(key(x, y, z));
         if (it == cells_.end()) continue;
         for (int f : it->second)
-          if (box_meets(f, lo, hi) && test(f)) return true;
+          if (scan(f)) return true;
       }
   return false;
+}
+
+template <class Visit>
+inline void FaceGrid::for_each_near(const Vec3& lo, const Vec3& hi, Visit&& visit) {
+  if (++current_stamp_ == 0) {
+    std::fill(stamp_.begin(), stamp_.end(), 0);
+    current_stamp_ = 1;
+  }
+  scan_cells(lo, hi, [&](int f) {
+    if (stamp_[f] == current_stamp_) return false;
+    stamp_[f] = current_stamp_;
+    if (box_meets(f, lo, hi)) visit(f);
+    return false;
+  });
+}
+
+template <class Test>
+inline bool FaceGrid::any_near(const Vec3& lo, const Vec3& hi, Test&& test) const {
+  return scan_cells(lo, hi, [&](int f) { return box_meets(f, lo, hi) && test(f); });
 }
 
 }  // namespace gdm
