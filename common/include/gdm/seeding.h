@@ -1,0 +1,40 @@
+// Seeds from the image (paper section 4: the seed only changes the time, not
+// the result): the automatic seed, the shrink-mode box, and the checks a seed
+// mesh given by a user must pass before it is deformed.
+#pragma once
+
+#include <cstddef>
+
+#include "gdm/cost_terms.h"  // Polarity
+#include "gdm/mesh.h"
+#include "gdm/volume.h"
+
+namespace gdm {
+
+struct AutoSeed {
+  Vec3 center = Vec3::Zero();      // mm
+  Index3 index{0, 0, 0};           // voxel of the centre
+  double depth = 0.0;              // distance from the centre to the region's boundary, mm
+  double radius = 0.0;             // half the depth: the sphere lies inside the region
+  std::size_t region_voxels = 0;   // size of the largest region
+  std::size_t regions = 0;         // 6-connected regions on the object side of T
+};
+
+// The centre of the largest 6-connected region strictly on the object side of
+// T (above T for Polarity::object_brighter), taken as the region voxel
+// farthest (Euclidean, in mm) from the region's boundary and from the
+// volume's border; the first in raster order on ties. Throws InvalidSeed when
+// no voxel is on the object side or the region has no interior voxel.
+AutoSeed find_auto_seed(const Volume& volume, double threshold, Polarity polarity);
+
+// A closed box `inset_voxels` voxels inside the volume's border, outward
+// oriented in physical space (12 faces): the seed of shrink mode.
+Mesh make_volume_box(const Volume& volume, double inset_voxels = 1.0);
+
+// Makes a user's seed mesh safe to deform: throws InvalidSeed (naming the
+// problem) unless it is non-empty, finite, closed, 2-manifold, free of
+// self-intersections and encloses a positive volume once oriented; a mesh
+// whose faces point inwards is reversed (`reversed` set when given).
+Mesh prepare_seed_mesh(const Mesh& mesh, bool* reversed = nullptr);
+
+}  // namespace gdm

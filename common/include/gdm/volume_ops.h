@@ -1,0 +1,32 @@
+// Volume operations of the pipeline (before the model): region of interest,
+// Gaussian smoothing and Otsu's threshold. No ITK here: every front end (the
+// gdm command, the ITK filter's users, MeshLab, Python) gets the same numbers.
+#pragma once
+
+#include "gdm/volume.h"
+
+namespace gdm {
+
+// An inclusive box of voxel indices.
+struct VoxelBox {
+  Index3 lo{0, 0, 0};  // first voxel on each axis
+  Index3 hi{0, 0, 0};  // last voxel on each axis (inclusive)
+};
+
+// The voxels of `box`, physical positions kept (the origin moves to the
+// box's first voxel). Throws InvalidOption naming "roi" when the box is not
+// inside the volume or spans fewer than 2 voxels on an axis.
+Volume crop(const Volume& volume, const VoxelBox& box);
+
+// Separable Gaussian smoothing, sigma in mm (per axis sigma / spacing voxels),
+// the kernel truncated at 4 sigma and normalised, borders clamped (the edge
+// voxel repeats). sigma == 0 returns a copy; a negative or non-finite sigma
+// throws InvalidOption naming "smooth".
+Volume gaussian_smooth(const Volume& volume, double sigma_mm);
+
+// Otsu's threshold between the volume's two classes from a `bins`-bin
+// histogram over [min, max] (the value at the upper edge of the last bin of
+// the lower class). Throws InvalidVolume for a constant volume.
+double otsu_threshold(const Volume& volume, int bins = 256);
+
+}  // namespace gdm
