@@ -10,6 +10,7 @@
 #include "gdm/errors.h"
 #include "gdm/float_snap.h"
 #include "gdm/intersection_guard.h"
+#include "gdm/option_catalogue.h"
 #include "gdm/parallel.h"
 #include "gdm/resampler.h"
 #include "gdm/seed.h"
@@ -54,47 +55,15 @@ double lod_ring_extent(const DeformOptions& o, double voxel) { return 2.0 * lod_
 }  // namespace
 
 void validate(const DeformOptions& o, const Volume& volume) {
-  for (auto [name, w] : {std::pair<const char*, double>{"a0", o.a0}, {"a1", o.a1}, {"a2", o.a2}})
-    require(std::isfinite(w) && w >= 0.0, std::string("weight ") + name + " must be finite and >= 0, got " + num(w));
-  require(o.a0 > 0.0, "weight a0 must be > 0: without the deformation potential nothing moves");
+  // Every range is the catalogue's (option_catalogue.h); what follows it ties options together.
+  for (const auto& option : deform_option_catalogue()) check_option(option, option.get(o));
   require(std::isfinite(o.threshold), "the threshold T must be set to a finite value");
-  require(std::isfinite(o.intensity_scale) && o.intensity_scale >= 0.0, "intensity_scale must be >= 0");
-  require(std::isfinite(o.reach) && o.reach > 0.0 && o.reach <= 10.0, "reach must be in (0, 10] voxels");
-  require(o.normal_rings >= 1 && o.normal_rings <= 4, "normal_rings must be in [1, 4]");
-  const auto& s = o.optimizer;
-  require(std::isfinite(s.min_step) && s.min_step > 0.0 && s.min_step <= s.max_step && s.max_step <= 10.0,
-          "steps must satisfy 0 < min_step <= max_step <= 10 voxels, got [" + num(s.min_step) + ", " +
-              num(s.max_step) + "]");
-  require(s.max_step_reductions >= 0 && s.max_step_reductions <= 16, "max_step_reductions must be in [0, 16]");
-  require(std::isfinite(s.gradient_step) && s.gradient_step > 0.0 && s.gradient_step <= 1.0,
-          "gradient_step must be in (0, 1] voxel");
-  require(std::isfinite(o.lod_face_area) && o.lod_face_area >= 0.5,
-          "lod_face_area must be at least 0.5 voxel^2, got " + num(o.lod_face_area));
-  require(o.global_refinements >= 0 && o.global_refinements <= 4, "global_refinements must be in [0, 4]");
-  require(o.max_cycles >= 1, "max_cycles must be >= 1");
-  require(std::isfinite(o.convergence_tolerance) && o.convergence_tolerance > 0.0,
-          "convergence_tolerance must be > 0");
-  require(o.convergence_window >= 1, "convergence_window must be >= 1");
-  require(o.threads >= 0, "threads must be >= 0 (0 = all cores)");
-  require(o.flip_max_dihedral >= 0.0 && o.flip_max_dihedral < 90.0, "flip_max_dihedral must be in [0, 90)");
-  require(o.max_faces >= 20, "max_faces must be at least 20");
-  require(!(o.max_topology_ratio <= 0.0), "max_topology_ratio must be > 0 (infinity turns the limit off)");
-  require(!(o.refinement_travel <= 0.0), "refinement_travel must be > 0 (infinity turns the bound off)");
-  require(o.fit_passes >= 1 && o.fit_passes <= 20, "fit_passes must be in [1, 20], got " + num(o.fit_passes));
-  require(std::isfinite(o.fit_max_distance) && o.fit_max_distance > 0.0 && o.fit_max_distance <= 4.0,
-          "fit_max_distance must be in (0, 4] voxels, got " + num(o.fit_max_distance));
-  require(std::isfinite(o.fit_smoothing) && o.fit_smoothing >= 0.0 && o.fit_smoothing <= 5.0,
-          "fit_smoothing must be in [0, 5] (0 = off), got " + num(o.fit_smoothing));
-  require(std::isfinite(o.lod_tolerance) && o.lod_tolerance >= 0.0 && o.lod_tolerance <= 10.0,
-          "lod_tolerance must be in [0, 10] voxels (0 = off), got " + num(o.lod_tolerance));
-  require(o.lod_tolerance == 0.0 || o.lod_tolerance >= 0.01,
-          "lod_tolerance must be at least 0.01 voxel (below, noise splits every face), got " + num(o.lod_tolerance));
-  require(std::isfinite(o.lod_min_angle) && o.lod_min_angle >= 0.0 && o.lod_min_angle < 60.0,
-          "lod_min_angle must be in [0, 60) degrees, got " + num(o.lod_min_angle));
+  require(o.optimizer.min_step <= o.optimizer.max_step,
+          "steps must satisfy min_step <= max_step, got [" + num(o.optimizer.min_step) + ", " +
+              num(o.optimizer.max_step) + "]");
   require(!o.obstacle || (!o.subvoxel_fit && o.lod_tolerance == 0.0),
           "an obstacle needs subvoxel_fit off and lod_tolerance 0 (the fit and the error-driven level of detail "
           "do not check obstacles)");
-  require(o.lod_rounds >= 1 && o.lod_rounds <= 50, "lod_rounds must be in [1, 50], got " + num(o.lod_rounds));
 
   if (volume.voxel_count() == 0) throw InvalidVolume("the volume is empty");
   if (!(volume.max_value() > volume.min_value()))

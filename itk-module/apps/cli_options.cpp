@@ -1,5 +1,7 @@
 #include "cli_options.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -11,8 +13,6 @@
 
 namespace gdm_cli {
 namespace {
-
-constexpr double kInf = std::numeric_limits<double>::infinity();
 
 std::string trim(const std::string& s) {
   const auto a = s.find_first_not_of(" \t");
@@ -29,87 +29,52 @@ struct Binding {
 template <typename T>
 using Accessor = T& (*)(Options&);
 
-std::string range_text(double lo, double hi) {
-  std::ostringstream s;
-  if (std::isinf(hi)) s << ">= " << lo;
-  else s << "in [" << lo << ", " << hi << "]";
-  return s.str();
-}
-
-Binding real(Accessor<double> field, double lo, double hi) {
-  return {[=](Options& o, const std::string& v) {
-            const double x = parse_real("", v);
-            if (!(x >= lo && x <= hi)) throw UsageError("must be " + range_text(lo, hi) + ", got " + v);
-            field(o) = x;
+// A row of the core's catalogue: parsed by its type, checked by the core's
+// range check (the same one validate() runs), rendered by its value text.
+Binding catalogue(const gdm::OptionEntry<gdm::PipelineOptions>& entry) {
+  return {[entry](Options& o, const std::string& v) {
+            double x = 0.0;
+            switch (entry.type) {
+              case gdm::OptionType::boolean:
+                if (v == "on" || v == "yes" || v == "true" || v == "1") x = 1.0;
+                else if (v == "off" || v == "no" || v == "false" || v == "0") x = 0.0;
+                else throw UsageError("must be on or off, got " + v);
+                break;
+              case gdm::OptionType::choice: {
+                const auto& c = entry.choices;
+                const auto it = std::find(c.begin(), c.end(), trim(v));
+                if (it == c.end()) throw UsageError("must be " + gdm::range_text(entry) + ", got " + v);
+                x = static_cast<double>(it - c.begin());
+                break;
+              }
+              case gdm::OptionType::integer:
+              case gdm::OptionType::real:
+                x = parse_real("", v);
+                if (!gdm::accepts(entry, x)) throw UsageError("must be " + gdm::range_text(entry) + ", got " + v);
+                break;
+            }
+            entry.set(o.pipeline, x);
           },
-          [=](const Options& o) { return json_number(field(const_cast<Options&>(o))); }};
-}
-
-// A real in an interval whose ends may be open: (lo, hi], [lo, hi), ...
-Binding real_interval(Accessor<double> field, double lo, bool lo_open, double hi, bool hi_open) {
-  std::ostringstream range;
-  range << "in " << (lo_open ? "(" : "[") << lo << ", " << hi << (hi_open ? ")" : "]");
-  const std::string text = range.str();
-  return {[=](Options& o, const std::string& v) {
-            const double x = parse_real("", v);
-            const bool above = lo_open ? x > lo : x >= lo;
-            const bool below = hi_open ? x < hi : x <= hi;
-            if (!(above && below)) throw UsageError("must be " + text + ", got " + v);
-            field(o) = x;
-          },
-          [=](const Options& o) { return json_number(field(const_cast<Options&>(o))); }};
-}
-
-// A positive real where inf turns the limit off (rendered "inf" in the report,
-// which the parser reads back).
-Binding positive_or_inf(Accessor<double> field) {
-  return {[=](Options& o, const std::string& v) {
-            const double x = parse_real("", v);
-            if (!(x > 0.0)) throw UsageError("must be > 0 (inf = off), got " + v);
-            field(o) = x;
-          },
-          [=](const Options& o) {
-            const double x = field(const_cast<Options&>(o));
-            return std::isinf(x) ? json_string("inf") : json_number(x);
+          [entry](const Options& o) {
+            const double x = entry.get(o.pipeline);
+            switch (entry.type) {
+              case gdm::OptionType::boolean: return json_bool(x != 0.0);
+              case gdm::OptionType::choice: return json_string(gdm::value_text(entry, x));
+              default: return std::isinf(x) ? json_string("inf") : json_number(x);
+            }
           }};
 }
 
-// The error-driven level of detail's tolerance: 0 (off) or in [0.01, 10] voxels.
-Binding lod_tolerance() {
-  return {[](Options& o, const std::string& v) {
-            const double x = parse_real("", v);
-            if (!(x == 0.0 || (x >= 0.01 && x <= 10.0)))
-              throw UsageError("must be 0 (off) or in [0.01, 10] voxels, got " + v);
-            o.deform.lod_tolerance = x;
-          },
-          [](const Options& o) { return json_number(o.deform.lod_tolerance); }};
-}
-
-Binding integer(Accessor<int> field, long lo, long hi) {
-  return {[=](Options& o, const std::string& v) {
-            const long x = parse_integer("", v);
-            if (x < lo || x > hi) throw UsageError("must be " + range_text(lo, hi) + ", got " + v);
-            field(o) = static_cast<int>(x);
-          },
-          [=](const Options& o) { return json_number(field(const_cast<Options&>(o))); }};
-}
-
-Binding count(Accessor<std::size_t> field, long lo) {
-  return {[=](Options& o, const std::string& v) {
-            const long x = parse_integer("", v);
-            if (x < lo) throw UsageError("must be >= " + std::to_string(lo) + ", got " + v);
-            field(o) = static_cast<std::size_t>(x);
-          },
-          [=](const Options& o) { return json_number(field(const_cast<Options&>(o))); }};
-}
-
-Binding on_off(Accessor<bool> field) {
-  return {[=](Options& o, const std::string& v) {
-            if (v == "on" || v == "yes" || v == "true" || v == "1") field(o) = true;
-            else if (v == "off" || v == "no" || v == "false" || v == "0") field(o) = false;
-            else throw UsageError("must be on or off, got " + v);
-          },
-          [=](const Options& o) { return json_bool(field(const_cast<Options&>(o))); }};
+// Voxel indices: integers within the range a volume can have (no overflowing cast).
+std::vector<long> parse_indices(const std::string& v, std::size_t count, bool non_negative) {
+  std::vector<long> out;
+  for (const double x : parse_list("", v, count)) {
+    if (x != std::floor(x) || std::fabs(x) > 1e9 || (non_negative && x < 0))
+      throw UsageError(std::string("needs ") + (non_negative ? "non-negative " : "") +
+                       "integer voxel indices (at most 1e9), got " + v);
+    out.push_back(static_cast<long>(x));
+  }
+  return out;
 }
 
 Binding flag(Accessor<bool> field) {
@@ -132,17 +97,20 @@ Binding text(Accessor<std::string> field) {
 Binding seed_point() {
   return {[](Options& o, const std::string& v) {
             if (trim(v) == "auto") {
-              o.seed.kind = SeedKind::automatic;
+              o.pipeline.seed.kind = gdm::SeedKind::automatic;
               return;
             }
             const auto p = parse_list("", v, 3);
-            o.seed.kind = SeedKind::point;
-            o.seed.point = {p[0], p[1], p[2]};
+            o.pipeline.seed.kind = gdm::SeedKind::point;
+            o.pipeline.seed.point = gdm::Vec3(p[0], p[1], p[2]);
           },
           [](const Options& o) -> std::string {
-            switch (o.seed.kind) {
-              case SeedKind::automatic: return json_string("auto");
-              case SeedKind::point: return json_array(o.seed.point);
+            switch (o.pipeline.seed.kind) {
+              case gdm::SeedKind::automatic: return json_string("auto");
+              case gdm::SeedKind::point: {
+                const auto& p = o.pipeline.seed.point;
+                return json_array(std::array<double, 3>{p.x(), p.y(), p.z()});
+              }
               default: return "null";
             }
           }};
@@ -150,45 +118,44 @@ Binding seed_point() {
 
 Binding seed_index() {
   return {[](Options& o, const std::string& v) {
-            const auto p = parse_list("", v, 3);
-            for (const double x : p)
-              if (x != std::floor(x)) throw UsageError("needs integer voxel indices, got " + v);
-            o.seed.kind = SeedKind::index;
-            o.seed.index = {static_cast<long>(p[0]), static_cast<long>(p[1]), static_cast<long>(p[2])};
+            const auto p = parse_indices(v, 3, false);
+            o.pipeline.seed.kind = gdm::SeedKind::index;
+            for (int d = 0; d < 3; ++d) o.pipeline.seed.index[d] = static_cast<int>(p[d]);
           },
           [](const Options& o) -> std::string {
-            if (o.seed.kind != SeedKind::index) return "null";
-            return "[" + std::to_string(o.seed.index[0]) + ", " + std::to_string(o.seed.index[1]) + ", " +
-                   std::to_string(o.seed.index[2]) + "]";
+            if (o.pipeline.seed.kind != gdm::SeedKind::index) return "null";
+            const auto& i = o.pipeline.seed.index;
+            return "[" + std::to_string(i[0]) + ", " + std::to_string(i[1]) + ", " + std::to_string(i[2]) + "]";
           }};
 }
 
 Binding seed_mesh() {
   return {[](Options& o, const std::string& v) {
             if (v.empty()) throw UsageError("needs a file name");
-            o.seed.kind = SeedKind::mesh;
-            o.seed.mesh = v;
+            o.pipeline.seed.kind = gdm::SeedKind::mesh;
+            o.seed_mesh = v;
           },
           [](const Options& o) {
-            return o.seed.kind == SeedKind::mesh ? json_string(o.seed.mesh) : std::string("null");
+            return o.pipeline.seed.kind == gdm::SeedKind::mesh ? json_string(o.seed_mesh) : std::string("null");
           }};
 }
 
 Binding roi() {
   return {[](Options& o, const std::string& v) {
-            const auto p = parse_list("", v, 6);
-            for (int d = 0; d < 6; ++d) {
-              if (p[d] != std::floor(p[d]) || p[d] < 0) throw UsageError("needs non-negative integer indices, got " + v);
-              o.roi[d] = static_cast<long>(p[d]);
+            const auto p = parse_indices(v, 6, true);
+            auto& box = o.pipeline.roi;
+            for (int d = 0; d < 3; ++d) {
+              box.lo[d] = static_cast<int>(p[d]);
+              box.hi[d] = static_cast<int>(p[d + 3]);
+              if (box.hi[d] < box.lo[d]) throw UsageError("needs i0 <= i1, j0 <= j1, k0 <= k1, got " + v);
             }
-            for (int d = 0; d < 3; ++d)
-              if (o.roi[d + 3] < o.roi[d]) throw UsageError("needs i0 <= i1, j0 <= j1, k0 <= k1, got " + v);
-            o.has_roi = true;
+            o.pipeline.use_roi = true;
           },
           [](const Options& o) -> std::string {
-            if (!o.has_roi) return "null";
+            if (!o.pipeline.use_roi) return "null";
+            const auto& b = o.pipeline.roi;
             std::string s = "[";
-            for (int d = 0; d < 6; ++d) s += (d ? ", " : "") + std::to_string(o.roi[d]);
+            for (int d = 0; d < 6; ++d) s += (d ? ", " : "") + std::to_string(d < 3 ? b.lo[d] : b.hi[d - 3]);
             return s + "]";
           }};
 }
@@ -197,44 +164,48 @@ Binding threshold() {
   return {[](Options& o, const std::string& v) {
             o.threshold_given = true;
             if (trim(v) == "otsu") {
-              o.threshold_otsu = true;
+              o.pipeline.threshold_otsu = true;
               return;
             }
             const double x = parse_real("", v);
             if (!std::isfinite(x)) throw UsageError("must be a finite number or otsu, got " + v);
-            o.threshold_otsu = false;
-            o.threshold_value = x;
+            o.pipeline.threshold_otsu = false;
+            o.pipeline.threshold = x;
           },
           [](const Options& o) {
-            return o.threshold_otsu ? json_string("otsu") : json_number(o.threshold_value);
+            return o.pipeline.threshold_otsu ? json_string("otsu") : json_number(o.pipeline.threshold);
           }};
-}
-
-Binding polarity() {
-  return {[](Options& o, const std::string& v) {
-            if (v == "bright" || v == "brighter") o.deform.polarity = gdm::Polarity::object_brighter;
-            else if (v == "dark" || v == "darker") o.deform.polarity = gdm::Polarity::object_darker;
-            else throw UsageError("must be bright or dark, got " + v);
-          },
-          [](const Options& o) {
-            return json_string(o.deform.polarity == gdm::Polarity::object_darker ? "dark" : "bright");
-          }};
-}
-
-Binding mode() {
-  return {[](Options& o, const std::string& v) {
-            if (v == "grow") o.deform.mode = gdm::Mode::grow;
-            else if (v == "shrink") o.deform.mode = gdm::Mode::shrink;
-            else throw UsageError("must be grow or shrink, got " + v);
-          },
-          [](const Options& o) { return json_string(o.deform.mode == gdm::Mode::shrink ? "shrink" : "grow"); }};
 }
 
 // A row of the table.
 OptionSpec row(std::string name, std::string metavar, std::string unit, std::string group, std::string help,
                Binding b, std::string default_text = {}) {
-  return {std::move(name), std::move(metavar), std::move(unit), std::move(group), std::move(help),
+  return {std::move(name), {}, std::move(metavar), std::move(unit), std::move(group), std::move(help),
           std::move(b.set), std::move(b.get), std::move(default_text)};
+}
+
+// The catalogue's name as a flag: lod_face_area -> --lod-face-area.
+std::string flag_name(const std::string& name) {
+  std::string s = "--" + name;
+  std::replace(s.begin(), s.end(), '_', '-');
+  return s;
+}
+
+OptionSpec catalogue_row(const gdm::OptionEntry<gdm::PipelineOptions>& e) {
+  std::string metavar;
+  switch (e.type) {
+    case gdm::OptionType::boolean: metavar = "on|off"; break;
+    case gdm::OptionType::choice:
+      for (const auto& c : e.choices) metavar += (metavar.empty() ? "" : "|") + c;
+      break;
+    case gdm::OptionType::integer: metavar = "N"; break;
+    case gdm::OptionType::real: metavar = "X"; break;
+  }
+  std::string help = e.help;
+  if (e.type == gdm::OptionType::real || e.type == gdm::OptionType::integer) help += ", " + gdm::range_text(e);
+  OptionSpec spec = row(flag_name(e.name), metavar, e.unit, e.group, help, catalogue(e));
+  if (!e.alias.empty()) spec.alias = "--" + e.alias;
+  return spec;
 }
 
 #define GDM_FIELD(type, expr) static_cast<Accessor<type>>([](Options& o) -> type& { return o.expr; })
@@ -243,62 +214,33 @@ std::vector<OptionSpec> make_table() {
   const char* in = "Input";
   const char* pre = "Preprocessing";
   const char* seed = "Seed";
-  const char* model = "Model (the core's DeformOptions; paper's defaults)";
   const char* out = "Output";
-  // One line per option: name, value, unit, group, help, binding[, default shown in --help].
-  // The line gives the parser, --help and the report's "parameters"; a new
-  // field of gdm::DeformOptions also needs its filter setter in run_model.cxx.
-  return {
+  const auto& entries = gdm::pipeline_option_catalogue();
+  const auto from_catalogue = [&](std::vector<OptionSpec>& table, const std::string& group) {
+    for (const auto& e : entries)
+      if (e.group == group) table.push_back(catalogue_row(e));
+  };
+  // The command's own rows (files, the threshold's otsu, the seed's forms,
+  // the region of interest), then the catalogue's rows in its groups.
+  std::vector<OptionSpec> table = {
       row("--series", "UID", "", in, "DICOM series to read from a folder with several", text(GDM_FIELD(std::string, series)), "the series with most slices"),
-      row("--smooth", "SIGMA", "mm", pre, "Gaussian smoothing before the model (0 = none)", real(GDM_FIELD(double, smooth_mm), 0.0, 1000.0)),
       row("--roi", "I0,J0,K0,I1,J1,K1", "voxels", pre, "crop to this inclusive voxel box first", roi(), "the whole volume"),
       row("--threshold", "T|otsu", "image units (HU for CT)", pre, "iso-value T of eq. 2; otsu = Otsu's method", threshold()),
-      row("--polarity", "bright|dark", "", pre, "the object is brighter or darker than T", polarity()),
-      row("--seed", "auto|X,Y,Z", "mm", seed, "seed centre (physical); auto = deepest point of the largest object region", seed_point()),
-      row("--seed-index", "I,J,K", "voxels", seed, "seed centre as a voxel index of the input (also with --roi)", seed_index(), "none"),
-      row("--seed-radius", "R", "mm", seed, "seed sphere radius (0 = auto: half the depth for --seed auto, else 2 voxels)", real(GDM_FIELD(double, seed.radius), 0.0, kInf)),
-      row("--seed-level", "N", "", seed, "subdivisions of the icosahedron seed (20*4^N faces)", integer(GDM_FIELD(int, seed.level), 0, 8)),
-      row("--seed-mesh", "FILE", "", seed, "closed triangle seed mesh (.vtk/.obj/.off, mm)", seed_mesh(), "none"),
-      row("--mode", "grow|shrink", "", model, "grow from inside the object or shrink from around it (section 5)", mode()),
-      row("--a0", "A0", "", model, "deformation gain a0 of eq. 1 (Table 2)", real(GDM_FIELD(double, deform.a0), 0.0, kInf)),
-      row("--a1", "A1", "", model, "image event gain a1 of eq. 1 (Table 2)", real(GDM_FIELD(double, deform.a1), 0.0, kInf)),
-      row("--a2", "A2", "", model, "topology gain a2 of eq. 1 (Table 2)", real(GDM_FIELD(double, deform.a2), 0.0, kInf)),
-      row("--intensity-scale", "S", "image units", model, "intensity per unit of I (0 = 1% of the value range)", real(GDM_FIELD(double, deform.intensity_scale), 0.0, kInf)),
-      row("--reach", "R", "voxels", model, "distance of the normal-tracking target (section 3.1.1)", real(GDM_FIELD(double, deform.reach), 0.01, 10.0)),
-      row("--normal-rings", "N", "", model, "rings of faces averaged into a vertex normal (section 7)", integer(GDM_FIELD(int, deform.normal_rings), 1, 4)),
-      row("--local-flip", "on|off", "", model, "flip the sense of vertices that crossed the boundary (section 5)", on_off(GDM_FIELD(bool, deform.local_flip))),
-      row("--min-step", "S", "voxels", model, "smallest optimizer step (section 3.2)", real(GDM_FIELD(double, deform.optimizer.min_step), 0.01, 10.0)),
-      row("--max-step", "S", "voxels", model, "largest optimizer step (section 3.2)", real(GDM_FIELD(double, deform.optimizer.max_step), 0.01, 10.0)),
-      row("--step-reductions", "N", "", model, "step halvings tried before a vertex stays put", integer(GDM_FIELD(int, deform.optimizer.max_step_reductions), 0, 16)),
-      row("--gradient-step", "H", "voxels", model, "central-difference half width of the gradient", real(GDM_FIELD(double, deform.optimizer.gradient_step), 0.01, 1.0)),
-      row("--lod", "AREA", "voxels^2", model, "level of detail: faces larger than this are split (Table 2)", real(GDM_FIELD(double, deform.lod_face_area), 0.5, kInf)),
-      row("--lod-topology-extent", "on|off", "", model, "floor eq. 3's extent at the level of detail", on_off(GDM_FIELD(bool, deform.lod_topology_extent))),
-      row("--max-topology-ratio", "R", "", model, "hard limit on eq. 3's ratio, against leaks through narrow gaps (inf = off)", positive_or_inf(GDM_FIELD(double, deform.max_topology_ratio))),
-      row("--refinement-travel", "D", "level-of-detail edge lengths", model, "after a global refinement a vertex moves at most this far from where the stage found it (inf = off)", positive_or_inf(GDM_FIELD(double, deform.refinement_travel))),
-      row("--refinements", "N", "", model, "global 1-to-4 resamplings, each after a convergence (section 6)", integer(GDM_FIELD(int, deform.global_refinements), 0, 4)),
-      row("--max-cycles", "N", "cycles", model, "hard limit on deformation cycles, all stages", integer(GDM_FIELD(int, deform.max_cycles), 1, std::numeric_limits<int>::max())),
-      row("--tolerance", "D", "voxels", model, "a vertex counts as moving beyond this", real(GDM_FIELD(double, deform.convergence_tolerance), 0.001, kInf)),
-      row("--window", "N", "cycles", model, "converged when nothing moved for this many cycles", integer(GDM_FIELD(int, deform.convergence_window), 1, std::numeric_limits<int>::max())),
-      row("--self-intersection-guard", "on|off", "", model, "veto moves and flips that would self-intersect", on_off(GDM_FIELD(bool, deform.prevent_self_intersection))),
-      row("--improve-triangles", "on|off", "", model, "Delaunay edge flips on nearly flat regions", on_off(GDM_FIELD(bool, deform.improve_triangles))),
-      row("--flip-dihedral", "DEG", "degrees", model, "only flip where faces are this close to flat", real(GDM_FIELD(double, deform.flip_max_dihedral), 0.0, 89.9)),
-      row("--max-faces", "N", "faces", model, "stop when the model grows past this many faces", count(GDM_FIELD(std::size_t, deform.max_faces), 20)),
-      row("--subvoxel-fit", "on|off", "", model, "after convergence, move every vertex onto the threshold crossing of the trilinear field", on_off(GDM_FIELD(bool, deform.subvoxel_fit))),
-      row("--fit-passes", "N", "", model, "sweeps of the sub-voxel fit, in [1, 20]", integer(GDM_FIELD(int, deform.fit_passes), 1, 20)),
-      row("--fit-max-distance", "D", "voxels", model, "a vertex moves at most this far in the fit, in (0, 4]", real_interval(GDM_FIELD(double, deform.fit_max_distance), 0.0, true, 4.0, false)),
-      row("--fit-smoothing", "S", "", model, "the fit draws a vertex toward the quadric over its 2-ring where it stands within S image-noise levels of it (smooths noise, keeps edges), in [0, 5], 0 = off", real_interval(GDM_FIELD(double, deform.fit_smoothing), 0.0, false, 5.0, false)),
-      row("--lod-tolerance", "E", "voxels", model, "error-driven level of detail: at most this deviation of a face from the threshold surface; splits where the surface leaves the faces, collapses where flat (0 = off, else [0.01, 10])", lod_tolerance()),
-      row("--lod-min-angle", "DEG", "degrees", model, "collapses of the error-driven level of detail keep every angle above this, in [0, 60)", real_interval(GDM_FIELD(double, deform.lod_min_angle), 0.0, false, 60.0, true)),
-      row("--lod-rounds", "N", "rounds", model, "collapse / split / fit rounds of the error-driven level of detail, in [1, 50]", integer(GDM_FIELD(int, deform.lod_rounds), 1, 50)),
-      row("--float-exact", "on|off", "", model, "end with every vertex on a float point, checked by the guard (float outputs stay free of self-intersections)", on_off(GDM_FIELD(bool, deform.float_exact_output))),
-      row("--threads", "N", "", model, "worker threads (0 = all cores); the result does not depend on it", integer(GDM_FIELD(int, deform.threads), 0, 1024)),
-      row("--output", "FILE", "", out, "mesh file: .ply (binary, vertex generation), .obj, .stl, .off, .vtk (also -o)", text(GDM_FIELD(std::string, output)), "<input name>-gdm.ply"),
-      row("--report", "FILE", "", out, "write a JSON report (figures and every parameter) here", text(GDM_FIELD(std::string, report)), "none"),
-      row("--allow-border", "", "", out, "accept a model that reached the volume border (else exit 4)", flag(GDM_FIELD(bool, allow_border))),
-      row("--quiet", "", "", out, "no progress and no summary; errors only (also -q)", flag(GDM_FIELD(bool, quiet))),
-      row("--help", "", "", out, "this text (also -h)", flag(GDM_FIELD(bool, help))),
-      row("--version", "", "", out, "the version", flag(GDM_FIELD(bool, version))),
   };
+  from_catalogue(table, pre);
+  table.push_back(row("--seed", "auto|X,Y,Z", "mm", seed, "seed centre (physical); auto = deepest point of the largest object region (a box inside the volume with --mode shrink)", seed_point()));
+  table.push_back(row("--seed-index", "I,J,K", "voxels", seed, "seed centre as a voxel index of the input (also with --roi)", seed_index(), "none"));
+  table.push_back(row("--seed-mesh", "FILE", "", seed, "closed triangle seed mesh (.ply/.obj/.off/.stl/.vtk, mm)", seed_mesh(), "none"));
+  from_catalogue(table, seed);
+  for (const auto& e : entries)
+    if (e.group != pre && e.group != seed && e.group != out) table.push_back(catalogue_row(e));
+  table.push_back(row("--output", "FILE", "", out, "mesh file: .ply (binary, vertex generation), .obj, .stl, .off, .vtk (also -o)", text(GDM_FIELD(std::string, output)), "<input name>-gdm.ply"));
+  table.push_back(row("--report", "FILE", "", out, "write a JSON report (figures and every parameter) here", text(GDM_FIELD(std::string, report)), "none"));
+  from_catalogue(table, out);
+  table.push_back(row("--quiet", "", "", out, "no progress and no summary; errors only (also -q)", flag(GDM_FIELD(bool, quiet))));
+  table.push_back(row("--help", "", "", out, "this text (also -h)", flag(GDM_FIELD(bool, help))));
+  table.push_back(row("--version", "", "", out, "the version", flag(GDM_FIELD(bool, version))));
+  return table;
 }
 #undef GDM_FIELD
 
@@ -369,7 +311,7 @@ Options parse_arguments(int argc, const char* const argv[]) {
     }
     const OptionSpec* spec = nullptr;
     for (const auto& s : table)
-      if (s.name == arg) spec = &s;
+      if (s.name == arg || (!s.alias.empty() && s.alias == arg)) spec = &s;
     if (spec == nullptr) throw UsageError("unknown option '" + arg + "' (see gdm --help)");
     if (!spec->metavar.empty() && !has_value) {
       if (i + 1 >= argc) throw UsageError(arg + " needs a value (" + spec->metavar + ")");
@@ -414,6 +356,7 @@ std::string help_text(const std::string& program) {
       if (def == "false") def = "off";
     }
     std::string line = o.help;
+    if (!o.alias.empty()) line += " (also " + o.alias + ")";
     if (!o.metavar.empty()) line += " [" + (o.unit.empty() ? std::string() : o.unit + "; ") + "default: " + def + "]";
     else if (!o.unit.empty()) line += " [" + o.unit + "]";
     // Word-wrap the description at 100 columns, aligned under its start.
@@ -453,7 +396,9 @@ std::string parameters_json(const Options& options, int indent) {
   object.add("input", options.input.empty() ? std::string("null") : json_string(options.input));
   for (const auto& o : option_table()) {
     if (o.name == "--help" || o.name == "--version") continue;
-    object.add(o.name.substr(2), o.get(options));
+    std::string key = o.name.substr(2);
+    std::replace(key.begin(), key.end(), '-', '_');  // the catalogue's spelling
+    object.add(key, o.get(options));
   }
   return object.str(indent);
 }

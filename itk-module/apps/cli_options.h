@@ -1,6 +1,9 @@
 // The options of the gdm command: one table (cli_options.cpp) drives the
-// parser, --help and the "parameters" block of the JSON report, so a new flag
-// is one line in that table.
+// parser, --help and the "parameters" block of the JSON report. Its numeric,
+// on/off and choice rows come from the core's catalogue of options
+// (gdm/option_catalogue.h, gdm::pipeline_option_catalogue()): a new option is
+// its core field plus one catalogue line, and the flag, its help and its range
+// check follow.
 #pragma once
 
 #include <array>
@@ -8,35 +11,18 @@
 #include <string>
 #include <vector>
 
-#include "gdm/deformer.h"
+#include "gdm/pipeline.h"
 
 namespace gdm_cli {
-
-enum class SeedKind { automatic, point, index, mesh };
-
-struct SeedOptions {
-  SeedKind kind = SeedKind::automatic;    // --seed auto (default), --seed x,y,z, --seed-index, --seed-mesh
-  std::array<double, 3> point{0, 0, 0};   // physical seed centre, mm (--seed x,y,z)
-  std::array<long, 3> index{0, 0, 0};     // seed centre as a voxel index (--seed-index)
-  double radius = 0.0;                    // seed sphere radius, mm; 0 = automatic
-  int level = 1;                          // subdivisions of the icosahedron seed (20 * 4^level faces)
-  std::string mesh;                       // seed mesh file (--seed-mesh)
-};
 
 struct Options {
   std::string input;                      // image file or DICOM folder; empty = embedded phantom
   std::string output;                     // mesh file; empty = <input name>-gdm.ply
   std::string report;                     // JSON report file; empty = none
   std::string series;                     // DICOM series UID; empty = the one with most slices
-  double smooth_mm = 0.0;                 // Gaussian sigma, mm; 0 = no smoothing
-  bool has_roi = false;                   // crop to roi before anything else
-  std::array<long, 6> roi{0, 0, 0, 0, 0, 0};  // i0,j0,k0,i1,j1,k1 (inclusive voxel indices)
-  bool threshold_otsu = true;             // T by Otsu's method (default), else threshold_value
   bool threshold_given = false;           // --threshold was on the command line
-  double threshold_value = 0.0;           // T of eq. 2 in the image's units (HU for CT)
-  SeedOptions seed;
-  gdm::DeformOptions deform;              // the core options (threshold and polarity set from above)
-  bool allow_border = false;              // accept a model that touches the volume border
+  std::string seed_mesh;                  // seed mesh file (--seed-mesh); read into pipeline.seed.mesh
+  gdm::PipelineOptions pipeline;          // everything the pipeline takes (the catalogue's options)
   bool quiet = false;                     // no progress, no summary
   bool help = false;
   bool version = false;
@@ -47,6 +33,7 @@ struct Options {
 // literal (used for the report and, on default options, for --help).
 struct OptionSpec {
   std::string name;       // "--a0"
+  std::string alias;      // an older spelling ("--lod"), accepted too; empty when none
   std::string metavar;    // "A0"; empty for a flag without value
   std::string unit;       // "mm", "voxels", ...; empty when none
   std::string group;      // heading in --help

@@ -1,10 +1,9 @@
-#include "image_input.h"
-
 #include <sys/stat.h>
 
 #include <cmath>
 #include <sstream>
 
+#include "itkImage.h"
 #include "itkGDCMImageIO.h"
 #include "itkGDCMSeriesFileNames.h"
 #include "itkImageFileReader.h"
@@ -13,11 +12,17 @@
 #include "itkMetaDataObject.h"
 #include "itkMinimumMaximumImageCalculator.h"
 
+#include "itkGDMVolumeConversion.h"
+
+#include "image_input.h"  // after ITK (see the build notes on Eigen)
+
 #include "cli_errors.h"
 #include "mesh_writers.h"  // file_extension
 
 namespace gdm_cli {
 namespace {
+
+using Image = itk::Image<float, 3>;
 
 bool is_directory(const std::string& path) {
   struct stat s {};
@@ -159,8 +164,6 @@ Image::Pointer read_file(const std::string& path, InputInfo& info) {
   return image;
 }
 
-}  // namespace
-
 void describe_image(const Image* image, InputInfo& info) {
   const auto region = image->GetLargestPossibleRegion();
   for (unsigned int d = 0; d < 3; ++d) {
@@ -176,8 +179,10 @@ void describe_image(const Image* image, InputInfo& info) {
   info.maximum = calculator->GetMaximum();
 }
 
-Image::Pointer read_input(const std::string& path, const std::string& series_uid, InputInfo& info,
-                          std::ostream& log) {
+}  // namespace
+
+gdm::Volume read_input(const std::string& path, const std::string& series_uid, InputInfo& info,
+                       std::ostream& log) {
   info.path = path;
   if (!exists(path)) throw InputError("no such file or folder: " + path);
   Image::Pointer image = is_directory(path) ? read_dicom_series(path, series_uid, info, log) : read_file(path, info);
@@ -193,7 +198,7 @@ Image::Pointer read_input(const std::string& path, const std::string& series_uid
     throw InputError(path + " holds NaN or infinite values");
   if (info.minimum == info.maximum)
     throw InputError(path + " is constant (every voxel is " + std::to_string(info.minimum) + "): nothing to segment");
-  return image;
+  return itk::GDMConversion::VolumeFromImage(image.GetPointer());
 }
 
 }  // namespace gdm_cli

@@ -7,22 +7,16 @@
 #include <ostream>
 #include <string>
 
-#include "itkImage.h"
+#include "gdm/volume.h"
 
 #include "run_record.h"
 
 namespace gdm_cli {
 
-using Image = itk::Image<float, 3>;
-
-
 // Reads `path`; `series_uid` selects a DICOM series (empty: the one with most
 // slices). Throws InputError naming the problem, UsageError for an unknown
 // series UID. Progress notes (which series) go to `log`.
-Image::Pointer read_input(const std::string& path, const std::string& series_uid, InputInfo& info,
-                          std::ostream& log);
-
-// Fills size, spacing, origin, direction and the value range from `image`.
-void describe_image(const Image* image, InputInfo& info);
+gdm::Volume read_input(const std::string& path, const std::string& series_uid, InputInfo& info,
+                       std::ostream& log);
 
 }  // namespace gdm_cli

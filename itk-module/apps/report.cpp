@@ -22,22 +22,13 @@ std::string vec(const std::array<double, 3>& v, int digits) {
 
 }  // namespace
 
-MeshFigures measure_mesh(const SurfaceMesh& m) {
-  gdm::Mesh mesh;
-  std::vector<gdm::Mesh::VertexHandle> handles;
-  handles.reserve(m.points.size());
-  for (const auto& p : m.points) handles.push_back(mesh.add_vertex(gdm::Mesh::Point(p[0], p[1], p[2])));
-  std::size_t rejected = 0;
-  for (const auto& f : m.faces)
-    if (!mesh.add_face(handles[f[0]], handles[f[1]], handles[f[2]]).is_valid()) ++rejected;
-
-  const gdm::MeshReport r = gdm::measure(mesh);
+MeshFigures mesh_figures(const gdm::Mesh& mesh, const gdm::MeshReport& r) {
   MeshFigures out;
-  out.vertices = m.points.size();
-  out.faces = m.faces.size();
+  out.vertices = r.vertices;
+  out.faces = r.faces;
   out.edges = r.edges;
-  out.closed = r.closed && rejected == 0;
-  out.manifold = r.two_manifold && rejected == 0;
+  out.closed = r.closed;
+  out.manifold = r.two_manifold;
   out.euler = r.euler;
   out.genus = r.genus;
   out.components = r.components;
@@ -45,15 +36,18 @@ MeshFigures measure_mesh(const SurfaceMesh& m) {
   out.volume_mm3 = r.volume;
   out.area_mm2 = r.area;
   out.min_angle_deg = r.min_angle_deg;
-  if (!m.points.empty()) {
-    out.low = out.high = m.points.front();
-    for (const auto& p : m.points)
-      for (int d = 0; d < 3; ++d) {
-        out.low[d] = std::min(out.low[d], p[d]);
-        out.high[d] = std::max(out.high[d], p[d]);
-      }
+  bool first = true;
+  for (auto v : mesh.vertices()) {
+    const auto& p = mesh.point(v);
+    for (int d = 0; d < 3; ++d) {
+      out.low[d] = first ? p[d] : std::min(out.low[d], p[d]);
+      out.high[d] = first ? p[d] : std::max(out.high[d], p[d]);
+    }
+    first = false;
   }
-  for (const int g : m.generation) out.max_generation = std::max(out.max_generation, g);
+  const auto generation = gdm::find_generation_property(mesh);
+  if (generation.is_valid())
+    for (auto v : mesh.vertices()) out.max_generation = std::max(out.max_generation, mesh.property(generation, v));
   return out;
 }
 

@@ -6,13 +6,14 @@
 
 #include "cli_options.h"
 #include "run_record.h"
-#include "surface_mesh.h"
+#include "gdm/mesh_checks.h"
 
 namespace gdm_cli {
 
-// Closed, manifold, genus, components, self-intersections (exact), volume,
-// area, bounding box: gdm::measure() on the mesh.
-MeshFigures measure_mesh(const SurfaceMesh& mesh);
+// The figures of the report: gdm::measure()'s (closed, manifold, genus,
+// components, self-intersections, volume, area), the bounding box and the
+// largest vertex generation.
+MeshFigures mesh_figures(const gdm::Mesh& mesh, const gdm::MeshReport& measured);
 
 // The input lines printed after reading (dimensions, spacing, value range).
 std::string input_text(const InputInfo& input);

@@ -367,8 +367,8 @@ public:
   itkSetClampMacro(SeedRadius, double, 0.0, NumericTraits<double>::max());
   itkGetConstMacro(SeedRadius, double);
 
-  /** Subdivisions of the icosahedron seed (20 * 4^level faces), in [0, 8]. */
-  itkSetClampMacro(SeedSubdivisionLevel, unsigned int, 0, 8);
+  /** Subdivisions of the icosahedron seed (20 * 4^level faces), in [0, 4] (level 5 faces are already below any level of detail). */
+  itkSetClampMacro(SeedSubdivisionLevel, unsigned int, 0, 4);
   itkGetConstMacro(SeedSubdivisionLevel, unsigned int);
 
   /** Results of the last run. */

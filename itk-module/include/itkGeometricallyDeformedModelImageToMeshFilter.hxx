@@ -15,7 +15,7 @@
 #include "itkGDMVolumeConversion.h"
 
 #include "gdm/errors.h"
-#include "gdm/seed.h"
+#include "gdm/pipeline.h"
 
 namespace itk
 {
@@ -151,35 +151,23 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::GenerateD
       itkExceptionMacro(<< "no input image");
     }
 
-    const gdm::DeformOptions options = this->GetDeformOptions();
-    gdm::Volume              volume;
-    gdm::Mesh                mesh;
-    gdm::DeformResult        result;
-
-    // Progress: an estimate per stage (each global refinement is a stage),
-    // approaching the end of the stage exponentially with its cycles; never
-    // less than the fraction of the cycle budget used; monotone; below 1 until
-    // the output is ready.
-    const double       stages = static_cast<double>(options.global_refinements + 1);
-    double             progress = 0.0;
-    int                stage = -1;
-    int                stageStart = 1;
+    // The core's pipeline (gdm/pipeline.h), the code path of every front end:
+    // the seed is checked (inside the volume and the object, a seed mesh
+    // closed, manifold, outward and free of self-intersections), the model
+    // deformed and measured. A model at the volume's border is this filter's
+    // user's to judge (GetNumberOfBorderVertices).
+    gdm::PipelineOptions pipeline;
+    pipeline.deform = this->GetDeformOptions();
+    pipeline.threshold_otsu = false;
+    pipeline.threshold = pipeline.deform.threshold;
+    pipeline.allow_border = true;
     std::exception_ptr observerError;
-    const gdm::DeformObserver observer = [&](const gdm::CycleReport & report) -> bool {
+    const gdm::PipelineObserver observer = [&](const gdm::PipelineProgress & p) -> bool {
       try
       {
         // The cycle's figures, readable by ProgressEvent observers.
-        this->SetCurrentCycleReport(report);
-        if (report.stage != stage)
-        {
-          stage = report.stage;
-          stageStart = report.cycle;
-        }
-        const double inStage = 1.0 - std::exp(-static_cast<double>(report.cycle - stageStart + 1) / 50.0);
-        double       estimate = (static_cast<double>(report.stage) + inStage) / stages;
-        estimate = std::max(estimate, static_cast<double>(report.cycle) / static_cast<double>(options.max_cycles));
-        progress = std::max(progress, std::min(estimate, 0.99));
-        this->UpdateProgress(static_cast<float>(progress));
+        this->SetCurrentCycleReport(p.cycle);
+        this->UpdateProgress(static_cast<float>(p.fraction));
         return !this->GetAbortGenerateData();
       }
       catch (...)
@@ -189,12 +177,14 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::GenerateD
       }
     };
 
+    gdm::PipelineResult pipelineResult;
     try
     {
-      volume = GDMConversion::VolumeFromImage(image);
+      const gdm::Volume volume = GDMConversion::VolumeFromImage(image);
       if (const SeedMeshType * seedMesh = this->GetSeedMesh())
       {
-        mesh = GDMConversion::MeshFromITKMesh(seedMesh);
+        pipeline.seed.kind = gdm::SeedKind::mesh;
+        pipeline.seed.mesh = GDMConversion::MeshFromITKMesh(seedMesh);
       }
       else
       {
@@ -202,11 +192,12 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::GenerateD
         {
           itkExceptionMacro(<< "no seed: set SeedCenter and a positive SeedRadius, or a seed mesh with SetSeedMesh()");
         }
-        const gdm::Vec3 center(m_SeedCenter[0], m_SeedCenter[1], m_SeedCenter[2]);
-        mesh = gdm::make_geodesic_sphere(center, m_SeedRadius, static_cast<int>(m_SeedSubdivisionLevel));
+        pipeline.seed.kind = gdm::SeedKind::point;
+        pipeline.seed.point = gdm::Vec3(m_SeedCenter[0], m_SeedCenter[1], m_SeedCenter[2]);
+        pipeline.seed.radius = m_SeedRadius;
+        pipeline.seed.level = static_cast<int>(m_SeedSubdivisionLevel);
       }
-      gdm::validate(options, volume);
-      result = gdm::deform(mesh, volume, options, observer);
+      pipelineResult = gdm::extract_surface(volume, pipeline, observer);
     }
     catch (const gdm::Error & error)
     {
@@ -216,6 +207,8 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::GenerateD
     {
       std::rethrow_exception(observerError);
     }
+    const gdm::DeformResult & result = pipelineResult.deform;
+    const gdm::Mesh &         mesh = pipelineResult.mesh;
 
     m_StopReason = gdm::to_string(result.reason);
     m_NumberOfCycles = static_cast<SizeValueType>(result.cycles);

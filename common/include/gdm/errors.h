@@ -3,6 +3,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace gdm {
 
@@ -12,10 +13,17 @@ class Error : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// An option out of its range (negative weight, NaN threshold, ...).
+// An option out of its range (negative weight, NaN threshold, ...). When the
+// option is one of the catalogue's (option_catalogue.h), option() names it so
+// a front end can say it in its own spelling (--lod-tolerance, ...).
 class InvalidOption : public Error {
  public:
   using Error::Error;
+  InvalidOption(std::string option, const std::string& message) : Error(message), option_(std::move(option)) {}
+  const std::string& option() const { return option_; }
+
+ private:
+  std::string option_;
 };
 
 // A volume that cannot be used (zero or NaN spacing, empty, constant, ...).

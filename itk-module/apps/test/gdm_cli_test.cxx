@@ -500,9 +500,8 @@ TEST(Output, ReportHoldsEveryParameter) {
   ASSERT_EQ(r.code, 0) << r.err;
   const std::string json = slurp(dir / "r.json");
   EXPECT_EQ(json_value(json, "a2"), 4.5);
-  EXPECT_EQ(json_value(json, "lod"), 12.0);
+  EXPECT_EQ(json_value(json, "lod_face_area"), 12.0);
   EXPECT_EQ(json_value(json, "threads"), 1.0);
-  EXPECT_EQ(json_value(json, "refinements"), 0.0);
   EXPECT_EQ(json_value(json, "global_refinements"), 0.0);
   EXPECT_NE(json.find("\"status\": \"ok\""), std::string::npos);
   EXPECT_NE(json.find("\"source\": \"phantom default\""), std::string::npos);
@@ -514,8 +513,9 @@ TEST(Output, ReportHoldsEveryParameter) {
   int options = 0;
   while (std::getline(lines, line)) {
     if (line.rfind("  --", 0) != 0) continue;
-    const std::string name = line.substr(4, line.find_first_of(" \n", 4) - 4);
+    std::string name = line.substr(4, line.find_first_of(" \n", 4) - 4);
     if (name == "help" || name == "version") continue;
+    std::replace(name.begin(), name.end(), '-', '_');  // the report spells options as the catalogue does
     ++options;
     EXPECT_NE(json.find("\"" + name + "\":"), std::string::npos) << name << " is not in the report";
     if (line.find(" N ") != std::string::npos || line.find("[") != std::string::npos) continue;
@@ -532,11 +532,12 @@ TEST(Output, HelpDocumentsOptionsAndExitCodes) {
   GdmRun r = run_gdm(dir, {"--help"});
   ASSERT_EQ(r.code, 0);
   for (const char* s : {"--threshold", "--polarity", "--seed", "--seed-index", "--seed-radius", "--seed-mesh",
-                        "--smooth", "--roi", "--series", "--mode", "--a0", "--a1", "--a2", "--lod", "--refinements",
+                        "--smooth", "--roi", "--series", "--mode", "--a0", "--a1", "--a2", "--lod-face-area", "(also --lod)",
+                        "--global-refinements", "(also --refinements)",
                         "--max-cycles", "--threads", "--report", "--quiet", "Exit codes", "default: 10]",
-                        "[mm; default: 0]", "--subvoxel-fit on|off", "--fit-passes N", "--fit-max-distance D", "--fit-smoothing S",
-                        "--lod-tolerance E", "--lod-min-angle DEG", "--lod-rounds N", "--max-topology-ratio R",
-                        "--refinement-travel D", "--float-exact on|off", "[voxels; default: 0]",
+                        "[mm; default: 0]", "--subvoxel-fit on|off", "--fit-passes N", "--fit-max-distance X", "--fit-smoothing X",
+                        "--lod-tolerance X", "--lod-min-angle X", "--lod-rounds N", "--max-topology-ratio X",
+                        "--refinement-travel X", "--float-exact-output on|off", "(also --float-exact)", "[voxels; default: 0]",
                         "[degrees; default: 15]", "[rounds; default: 6]"})
     EXPECT_NE(r.out.find(s), std::string::npos) << s;
 }
@@ -661,8 +662,8 @@ TEST(Model, ErrorDrivenLevelOfDetail) {
 
   // Bad values: exit 2, the option named, no output.
   const std::vector<std::pair<std::vector<std::string>, std::string>> bad = {
-      {{"--lod-tolerance", "-1"}, "--lod-tolerance: must be 0 (off) or in [0.01, 10] voxels, got -1"},
-      {{"--lod-tolerance", "0.001"}, "--lod-tolerance: must be 0 (off) or in [0.01, 10] voxels"},
+      {{"--lod-tolerance", "-1"}, "--lod-tolerance: must be 0 (off) or in [0.01, 10], got -1"},
+      {{"--lod-tolerance", "0.001"}, "--lod-tolerance: must be 0 (off) or in [0.01, 10]"},
       {{"--fit-passes", "0"}, "--fit-passes: must be in [1, 20], got 0"},
       {{"--fit-max-distance", "0"}, "--fit-max-distance: must be in (0, 4], got 0"},
       {{"--fit-smoothing", "-1"}, "--fit-smoothing: must be in [0, 5], got -1"},
@@ -853,11 +854,11 @@ TEST(BadInput, CorruptMhaHeader) {
 }
 
 TEST(BadInput, SeedOutsideTheVolume) {
-  expect_failure(work_dir(), {"--seed", "1000,0,0"}, 2, "--seed (1000, 0, 0) mm is outside the volume");
+  expect_failure(work_dir(), {"--seed", "1000,0,0"}, 2, "the seed centre (1000, 0, 0) mm is outside the volume");
 }
 
 TEST(BadInput, SeedIndexOutsideTheVolume) {
-  expect_failure(work_dir(), {"--seed-index", "10,10,99"}, 2, "--seed-index 10,10,99 is outside the volume");
+  expect_failure(work_dir(), {"--seed-index", "10,10,99"}, 2, "the seed index 10,10,99 is outside the volume");
 }
 
 TEST(BadInput, UnknownOption) { expect_failure(work_dir(), {"--frobnicate"}, 2, "unknown option '--frobnicate'"); }

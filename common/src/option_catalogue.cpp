@@ -1,0 +1,185 @@
+#include "gdm/option_catalogue.h"
+
+#include <cmath>
+#include <sstream>
+#include <type_traits>
+#include <utility>
+
+#include "gdm/errors.h"
+
+namespace gdm {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+std::string number(double v) {
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+// Builders of the catalogue's rows. A row: name, group, unit, help, then the range.
+using Entry = OptionEntry<DeformOptions>;
+
+Entry row(std::string name, std::string group, std::string unit, std::string help) {
+  Entry e;
+  e.name = std::move(name);
+  e.group = std::move(group);
+  e.unit = std::move(unit);
+  e.help = std::move(help);
+  return e;
+}
+
+// `field` is a lambda returning a reference to the option's field.
+template <typename Field>
+Entry bind(Entry e, OptionType type, double lo, bool lo_open, double hi, bool hi_open, Field field) {
+  using T = std::remove_reference_t<decltype(field(std::declval<DeformOptions&>()))>;
+  e.type = type;
+  e.lo = lo;
+  e.lo_open = lo_open;
+  e.hi = hi;
+  e.hi_open = hi_open;
+  e.get = [field](const DeformOptions& o) {
+    const T& v = field(const_cast<DeformOptions&>(o));
+    if constexpr (std::is_enum_v<T>) return static_cast<double>(static_cast<int>(v));
+    else return static_cast<double>(v);
+  };
+  e.set = [field](DeformOptions& o, double v) {
+    if constexpr (std::is_enum_v<T>) field(o) = static_cast<T>(static_cast<int>(v));
+    else if constexpr (std::is_same_v<T, bool>) field(o) = v != 0.0;
+    else field(o) = static_cast<T>(v);
+  };
+  return e;
+}
+
+template <typename Field>
+Entry real(Entry e, double lo, bool lo_open, double hi, bool hi_open, Field field) {
+  return bind(std::move(e), OptionType::real, lo, lo_open, hi, hi_open, field);
+}
+
+template <typename Field>
+Entry integer(Entry e, double lo, double hi, Field field) {
+  return bind(std::move(e), OptionType::integer, lo, false, hi, false, field);
+}
+
+template <typename Field>
+Entry boolean(Entry e, Field field) {
+  return bind(std::move(e), OptionType::boolean, 0.0, false, 1.0, false, field);
+}
+
+template <typename Field>
+Entry choice(Entry e, std::vector<std::string> names, Field field) {
+  const double hi = static_cast<double>(names.size() - 1);
+  e.choices = std::move(names);
+  return bind(std::move(e), OptionType::choice, 0.0, false, hi, false, field);
+}
+
+Entry special(Entry e, double value, std::string text) {
+  e.special.push_back(value);
+  e.special_text = std::move(text);
+  return e;
+}
+
+Entry alias(Entry e, std::string old) {
+  e.alias = std::move(old);
+  return e;
+}
+
+std::vector<Entry> make_catalogue() {
+  const char* model = "Model (paper's Table 2 and sections 3 to 6)";
+  const char* guard = "Guarantees and limits";
+  const char* fit = "After convergence (beyond the paper)";
+  constexpr bool open = true, closed = false;
+  const double int_max = static_cast<double>(std::numeric_limits<int>::max());
+#define F(field) [](DeformOptions & o) -> auto& { return field; }
+  // One line per option: its name, group, unit and help, then its kind and range.
+  return {
+      choice(row("mode", model, "", "grow from inside the object or shrink from around it (section 5)"), {"grow", "shrink"}, F(o.mode)),
+      choice(row("polarity", model, "", "the object is brighter or darker than the threshold"), {"bright", "dark"}, F(o.polarity)),
+      real(row("a0", model, "", "deformation gain a0 of eq. 1 (Table 2)"), 0.0, open, kInf, open, F(o.a0)),
+      real(row("a1", model, "", "image event gain a1 of eq. 1 (Table 2)"), 0.0, closed, kInf, open, F(o.a1)),
+      real(row("a2", model, "", "topology gain a2 of eq. 1 (Table 2)"), 0.0, closed, kInf, open, F(o.a2)),
+      real(row("intensity_scale", model, "image units", "intensity per unit of I (0 = 1% of the value range)"), 0.0, closed, kInf, open, F(o.intensity_scale)),
+      real(row("reach", model, "voxels", "distance of the normal-tracking target (section 3.1.1)"), 0.0, open, 10.0, closed, F(o.reach)),
+      integer(row("normal_rings", model, "", "rings of faces averaged into a vertex normal (section 7)"), 1, 4, F(o.normal_rings)),
+      boolean(row("local_flip", model, "", "flip the sense of vertices that crossed the boundary (section 5)"), F(o.local_flip)),
+      real(row("min_step", model, "voxels", "smallest optimizer step (section 3.2)"), 0.0, open, 10.0, closed, F(o.optimizer.min_step)),
+      real(row("max_step", model, "voxels", "largest optimizer step (section 3.2)"), 0.0, open, 10.0, closed, F(o.optimizer.max_step)),
+      alias(integer(row("max_step_reductions", model, "", "step halvings tried before a vertex stays put"), 0, 16, F(o.optimizer.max_step_reductions)), "step-reductions"),
+      real(row("gradient_step", model, "voxels", "central-difference half width of the gradient"), 0.0, open, 1.0, closed, F(o.optimizer.gradient_step)),
+      alias(real(row("lod_face_area", model, "voxels^2", "level of detail: faces larger than this are split (Table 2)"), 0.5, closed, kInf, open, F(o.lod_face_area)), "lod"),
+      boolean(row("lod_topology_extent", model, "", "floor eq. 3's extent at the level of detail"), F(o.lod_topology_extent)),
+      special(real(row("max_topology_ratio", model, "", "hard limit on eq. 3's ratio, against leaks through narrow gaps"), 0.0, open, kInf, open, F(o.max_topology_ratio)), kInf, "inf = off"),
+      special(real(row("refinement_travel", model, "level-of-detail edge lengths", "after a global refinement a vertex moves at most this far from where the stage found it"), 0.0, open, kInf, open, F(o.refinement_travel)), kInf, "inf = off"),
+      alias(integer(row("global_refinements", model, "", "global 1-to-4 resamplings, each after a convergence (section 6)"), 0, 4, F(o.global_refinements)), "refinements"),
+      integer(row("max_cycles", model, "cycles", "hard limit on deformation cycles, all stages"), 1, int_max, F(o.max_cycles)),
+      alias(real(row("convergence_tolerance", model, "voxels", "a vertex counts as moving beyond this"), 0.0, open, kInf, open, F(o.convergence_tolerance)), "tolerance"),
+      alias(integer(row("convergence_window", model, "cycles", "converged when nothing moved for this many cycles"), 1, int_max, F(o.convergence_window)), "window"),
+      alias(boolean(row("prevent_self_intersection", guard, "", "veto moves and flips that would self-intersect"), F(o.prevent_self_intersection)), "self-intersection-guard"),
+      boolean(row("improve_triangles", model, "", "Delaunay edge flips on nearly flat regions"), F(o.improve_triangles)),
+      alias(real(row("flip_max_dihedral", model, "degrees", "only flip where faces are this close to flat"), 0.0, closed, 90.0, open, F(o.flip_max_dihedral)), "flip-dihedral"),
+      integer(row("threads", guard, "", "worker threads (0 = all cores); the result does not depend on it"), 0, 1024, F(o.threads)),
+      integer(row("max_faces", guard, "faces", "stop when the model grows past this many faces"), 20, 1e12, F(o.max_faces)),
+      boolean(row("subvoxel_fit", fit, "", "after convergence, move every vertex onto the threshold crossing of the trilinear field"), F(o.subvoxel_fit)),
+      integer(row("fit_passes", fit, "", "sweeps of the sub-voxel fit"), 1, 20, F(o.fit_passes)),
+      real(row("fit_max_distance", fit, "voxels", "a vertex moves at most this far in the fit"), 0.0, open, 4.0, closed, F(o.fit_max_distance)),
+      real(row("fit_smoothing", fit, "", "the fit draws a vertex toward the quadric over its 2-ring where it stands within this many image-noise levels of it (smooths noise, keeps edges); 0 = off"), 0.0, closed, 5.0, closed, F(o.fit_smoothing)),
+      special(real(row("lod_tolerance", fit, "voxels", "error-driven level of detail: at most this deviation of a face from the threshold surface; splits where the surface leaves the faces, collapses where flat"), 0.01, closed, 10.0, closed, F(o.lod_tolerance)), 0.0, "0 (off)"),
+      real(row("lod_min_angle", fit, "degrees", "collapses of the error-driven level of detail keep every angle above this"), 0.0, closed, 60.0, open, F(o.lod_min_angle)),
+      integer(row("lod_rounds", fit, "rounds", "collapse / split / fit rounds of the error-driven level of detail"), 1, 50, F(o.lod_rounds)),
+      alias(boolean(row("float_exact_output", guard, "", "end with every vertex on a float point, checked by the guard (float outputs stay free of self-intersections)"), F(o.float_exact_output)), "float-exact"),
+  };
+#undef F
+}
+
+}  // namespace
+
+bool accepts(const OptionInfo& o, double v) {
+  if (std::isnan(v)) return false;
+  for (const double s : o.special)
+    if (v == s) return true;
+  if (o.type == OptionType::integer && v != std::floor(v)) return false;
+  const bool above = o.lo_open ? v > o.lo : v >= o.lo;
+  const bool below = o.hi_open ? v < o.hi : v <= o.hi;
+  return above && below;
+}
+
+std::string range_text(const OptionInfo& o) {
+  if (o.type == OptionType::boolean) return "on or off";
+  if (o.type == OptionType::choice) {
+    std::string s;
+    for (std::size_t i = 0; i < o.choices.size(); ++i)
+      s += (i == 0 ? "" : i + 1 == o.choices.size() ? " or " : ", ") + o.choices[i];
+    return s;
+  }
+  std::string interval;
+  if (std::isinf(o.hi))
+    interval = (o.lo_open ? "> " : ">= ") + number(o.lo);
+  else
+    interval = std::string("in ") + (o.lo_open ? "(" : "[") + number(o.lo) + ", " + number(o.hi) + (o.hi_open ? ")" : "]");
+  if (o.special_text.empty()) return interval;
+  // "0 (off) or in [0.01, 10]"; "> 0 (inf = off)"
+  if (o.special_text.find('=') != std::string::npos) return interval + " (" + o.special_text + ")";
+  return o.special_text + " or " + interval;
+}
+
+std::string value_text(const OptionInfo& o, double v) {
+  if (o.type == OptionType::boolean) return v != 0.0 ? "on" : "off";
+  if (o.type == OptionType::choice) {
+    const int i = static_cast<int>(v);
+    return i >= 0 && i < static_cast<int>(o.choices.size()) ? o.choices[i] : number(v);
+  }
+  return number(v);
+}
+
+void check_option(const OptionInfo& o, double v) {
+  if (!accepts(o, v)) throw InvalidOption(o.name, o.name + " must be " + range_text(o) + ", got " + value_text(o, v));
+}
+
+const std::vector<OptionEntry<DeformOptions>>& deform_option_catalogue() {
+  static const std::vector<Entry> catalogue = make_catalogue();
+  return catalogue;
+}
+
+}  // namespace gdm

@@ -1,0 +1,257 @@
+#include "gdm/pipeline.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "gdm/seed.h"
+
+namespace gdm {
+namespace {
+
+std::string num(double v) {
+  std::ostringstream s;
+  s.precision(6);
+  s << v;
+  return s.str();
+}
+
+std::string point_text(const Vec3& p) { return "(" + num(p.x()) + ", " + num(p.y()) + ", " + num(p.z()) + ")"; }
+
+std::string index_text(const Index3& i) {
+  return std::to_string(i[0]) + "," + std::to_string(i[1]) + "," + std::to_string(i[2]);
+}
+
+// The pipeline's own rows of the catalogue.
+std::vector<OptionEntry<PipelineOptions>> make_pipeline_catalogue() {
+  const char* pre = "Preprocessing";
+  const char* seed = "Seed";
+  auto row = [](const char* name, const char* group, const char* unit, const char* help, OptionType type, double lo,
+                double hi, std::function<double(const PipelineOptions&)> get,
+                std::function<void(PipelineOptions&, double)> set) {
+    OptionEntry<PipelineOptions> e;
+    e.name = name;
+    e.group = group;
+    e.unit = unit;
+    e.help = help;
+    e.type = type;
+    e.lo = lo;
+    e.hi = hi;
+    e.get = std::move(get);
+    e.set = std::move(set);
+    return e;
+  };
+  std::vector<OptionEntry<PipelineOptions>> rows = {
+      row("smooth", pre, "mm", "Gaussian smoothing before the model (0 = none)", OptionType::real, 0.0, 1000.0,
+          [](const PipelineOptions& o) { return o.smooth; }, [](PipelineOptions& o, double v) { o.smooth = v; }),
+      row("seed_radius", seed, "mm", "seed sphere radius (0 = auto: half the depth for the automatic seed, else 2 voxels)",
+          OptionType::real, 0.0, 1e6, [](const PipelineOptions& o) { return o.seed.radius; },
+          [](PipelineOptions& o, double v) { o.seed.radius = v; }),
+      // Level 5 already has 20,480 faces, smaller than any level of detail: the model could not move them.
+      row("seed_level", seed, "", "subdivisions of the icosahedron seed (20*4^N faces)", OptionType::integer, 0, 4,
+          [](const PipelineOptions& o) { return static_cast<double>(o.seed.level); },
+          [](PipelineOptions& o, double v) { o.seed.level = static_cast<int>(v); }),
+      row("allow_border", "Output", "", "accept a model that reached the volume border (else it is a leak)",
+          OptionType::boolean, 0, 1, [](const PipelineOptions& o) { return o.allow_border ? 1.0 : 0.0; },
+          [](PipelineOptions& o, double v) { o.allow_border = v != 0.0; }),
+  };
+  for (auto& e : lift_options(&PipelineOptions::deform)) rows.push_back(std::move(e));
+  return rows;
+}
+
+std::shared_ptr<const Volume> preprocess(const Volume& input, const PipelineOptions& o) {
+  if (!o.use_roi && o.smooth == 0.0) return std::shared_ptr<const Volume>(&input, [](const Volume*) {});
+  Volume v = o.use_roi ? crop(input, o.roi) : input;
+  if (o.smooth > 0.0) v = gaussian_smooth(v, o.smooth);
+  return std::make_shared<const Volume>(std::move(v));
+}
+
+double choose_threshold(const Volume& volume, const PipelineOptions& o, PipelineChoices& choices) {
+  if (volume.voxel_count() == 0) throw InvalidVolume("the volume is empty");
+  if (!(volume.max_value() > volume.min_value()))
+    throw InvalidVolume("the volume is constant (every voxel is " + num(volume.min_value()) +
+                        "): there is no boundary to find");
+  const double t = o.threshold_otsu ? otsu_threshold(volume) : o.threshold;
+  choices.threshold = t;
+  choices.threshold_source = o.threshold_otsu ? "otsu" : "given";
+  if (!(t > volume.min_value() && t < volume.max_value()))
+    throw InvalidOption("threshold", "the threshold " + num(t) + " is outside the value range [" +
+                                         num(volume.min_value()) + ", " + num(volume.max_value()) + "] of the " +
+                                         (o.use_roi || o.smooth > 0.0 ? "preprocessed " : "") + "volume");
+  return t;
+}
+
+// The sphere lies inside the volume and, when growing, its centre on the object side of T.
+void check_seed_sphere(const Volume& volume, const Vec3& c, double radius, const DeformOptions& d,
+                       const std::string& what) {
+  if (!volume.contains(c)) {
+    Vec3 lo = volume.to_physical(Vec3::Zero());
+    Vec3 hi = volume.to_physical(Vec3(volume.dims()[0] - 1, volume.dims()[1] - 1, volume.dims()[2] - 1));
+    throw InvalidSeed(what + " " + point_text(c) + " mm is outside the volume (voxel centres span " +
+                      point_text(lo) + " to " + point_text(hi) + " mm)");
+  }
+  for (int axis = 0; axis < 3; ++axis)
+    for (const double sign : {-1.0, 1.0}) {
+      Vec3 p = c;
+      p[axis] += sign * radius;
+      if (!volume.contains(p))
+        throw InvalidSeed("the seed sphere (centre " + point_text(c) + " mm, radius " + num(radius) +
+                          " mm) extends outside the volume: use a smaller seed radius");
+    }
+  if (d.mode == Mode::grow) {
+    const double v = volume.sample(c);
+    const bool darker = d.polarity == Polarity::object_darker;
+    if (darker ? !(v < d.threshold) : !(v > d.threshold))
+      throw InvalidSeed(what + " " + point_text(c) + " mm is not inside the object: its value " + num(v) + " is " +
+                        (darker ? "not below" : "not above") + " the threshold " + num(d.threshold) + " (object " +
+                        (darker ? "darker" : "brighter") + "); check the seed, the threshold and the polarity");
+  }
+}
+
+Mesh choose_seed(const Volume& input, const Volume& volume, const PipelineOptions& o, const DeformOptions& d,
+                 PipelineChoices& choices) {
+  const SeedOptions& s = o.seed;
+  const double manual_radius = s.radius > 0.0 ? s.radius : 2.0 * volume.voxel_size();
+  Vec3 center;
+  double radius = manual_radius;
+  switch (s.kind) {
+    case SeedKind::automatic:
+      if (d.mode == Mode::shrink) {
+        choices.seed_source = "box";
+        Mesh box = make_volume_box(volume);
+        choices.seed_faces = box.n_faces();
+        return box;
+      } else {
+        const AutoSeed a = find_auto_seed(volume, d.threshold, d.polarity);
+        choices.seed_source = "auto";
+        choices.auto_seed = a;
+        center = a.center;
+        radius = s.radius > 0.0 ? s.radius : a.radius;
+        if (s.radius > 0.0) check_seed_sphere(volume, center, radius, d, "the automatic seed");
+      }
+      break;
+    case SeedKind::point:
+      choices.seed_source = "point";
+      center = s.point;
+      check_seed_sphere(volume, center, radius, d, "the seed centre");
+      break;
+    case SeedKind::index: {
+      for (int axis = 0; axis < 3; ++axis)
+        if (s.index[axis] < 0 || s.index[axis] >= input.dims()[axis])
+          throw InvalidSeed("the seed index " + index_text(s.index) + " is outside the volume (" +
+                            std::to_string(input.dims()[0]) + " x " + std::to_string(input.dims()[1]) + " x " +
+                            std::to_string(input.dims()[2]) + " voxels, indices from 0)");
+      choices.seed_source = "index";
+      center = input.to_physical(Vec3(s.index[0], s.index[1], s.index[2]));
+      check_seed_sphere(volume, center, radius, d, "the seed index " + index_text(s.index) + " at");
+      break;
+    }
+    case SeedKind::mesh: {
+      choices.seed_source = "mesh";
+      Mesh mesh = prepare_seed_mesh(s.mesh, &choices.seed_reversed);
+      for (auto v : mesh.vertices())
+        if (!volume.contains(to_eigen(mesh.point(v))))
+          throw InvalidSeed("the seed mesh's point " + point_text(to_eigen(mesh.point(v))) + " mm is outside the volume");
+      choices.seed_faces = mesh.n_faces();
+      return mesh;
+    }
+  }
+  choices.seed_center = center;
+  choices.seed_radius = radius;
+  Mesh sphere = make_geodesic_sphere(center, radius, s.level);
+  choices.seed_faces = sphere.n_faces();
+  return sphere;
+}
+
+// Why the result is not the object, or empty.
+std::string failure_of(const DeformResult& r, const MeshReport& m, const DeformOptions& d, bool allow_border) {
+  const bool darker = d.polarity == Polarity::object_darker;
+  if (r.border_vertices > 0 && !allow_border)
+    return "the model reached the volume border (" + std::to_string(r.border_vertices) +
+           " vertices within a voxel of it): it leaked out of the object. Check the polarity (is the object " +
+           (darker ? "darker" : "brighter") + " than T?) and the threshold, or allow the border if the object "
+           "really touches it";
+  if (r.reason == StopReason::face_limit)
+    return "the model grew past " + std::to_string(d.max_faces) +
+           " faces (max_faces): it probably leaked; check the polarity and the threshold, or raise max_faces";
+  if (!m.closed || !m.two_manifold || m.self_intersections > 0 || !(m.volume > 0.0))
+    return "the model breaks a guarantee (closed " + std::string(m.closed ? "yes" : "no") + ", manifold " +
+           (m.two_manifold ? "yes" : "no") + ", " + std::to_string(m.self_intersections) +
+           " self-intersecting face pairs, volume " + num(m.volume) + "): a bug, please report it";
+  return {};
+}
+
+}  // namespace
+
+const std::vector<OptionEntry<PipelineOptions>>& pipeline_option_catalogue() {
+  static const std::vector<OptionEntry<PipelineOptions>> catalogue = make_pipeline_catalogue();
+  return catalogue;
+}
+
+void validate(const PipelineOptions& o) {
+  for (const auto& option : pipeline_option_catalogue()) check_option(option, option.get(o));
+  if (!o.threshold_otsu && !std::isfinite(o.threshold))
+    throw InvalidOption("threshold", "the threshold must be a finite number (or Otsu's), got " + num(o.threshold));
+  if (o.seed.kind == SeedKind::point && !o.seed.point.allFinite())
+    throw InvalidOption("seed", "the seed centre must be finite, got " + point_text(o.seed.point));
+}
+
+PreparedModel prepare_model(const Volume& input, const PipelineOptions& o) {
+  validate(o);
+  PreparedModel p;
+  p.volume = preprocess(input, o);
+  p.deform = o.deform;
+  p.deform.threshold = choose_threshold(*p.volume, o, p.choices);
+  validate(p.deform, *p.volume);
+  p.seed = choose_seed(input, *p.volume, o, p.deform, p.choices);
+  p.allow_border = o.allow_border;
+  return p;
+}
+
+ProgressEstimator::ProgressEstimator(int global_refinements, int max_cycles)
+    : stages_(static_cast<double>(global_refinements + 1)), max_cycles_(static_cast<double>(max_cycles)) {}
+
+double ProgressEstimator::update(const CycleReport& report) {
+  if (report.stage != stage_) {
+    stage_ = report.stage;
+    stage_start_ = report.cycle;
+  }
+  const double in_stage = 1.0 - std::exp(-static_cast<double>(report.cycle - stage_start_ + 1) / 50.0);
+  double estimate = (static_cast<double>(report.stage) + in_stage) / stages_;
+  estimate = std::max(estimate, static_cast<double>(report.cycle) / max_cycles_);
+  fraction_ = std::max(fraction_, std::min(estimate, 0.99));
+  return fraction_;
+}
+
+PipelineResult run_model(const PreparedModel& p, const PipelineObserver& observer) {
+  const auto start = std::chrono::steady_clock::now();
+  PipelineResult r;
+  r.mesh = p.seed;
+  r.choices = p.choices;
+  DeformObserver on_cycle;
+  ProgressEstimator estimator(p.deform.global_refinements, p.deform.max_cycles);
+  if (observer)
+    on_cycle = [&](const CycleReport& c) { return observer({c, estimator.update(c)}); };
+  r.deform = deform(r.mesh, *p.volume, p.deform, on_cycle);
+  r.mesh.garbage_collection();
+  if (r.deform.reason != StopReason::cancelled) {
+    r.report = measure(r.mesh);
+    r.failure = failure_of(r.deform, r.report, p.deform, p.allow_border);
+  } else {
+    r.failure = "cancelled";
+  }
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return r;
+}
+
+PipelineResult extract_surface(const Volume& volume, const PipelineOptions& options,
+                               const PipelineObserver& observer) {
+  return run_model(prepare_model(volume, options), observer);
+}
+
+void require_success(const PipelineResult& result) {
+  if (!result.failure.empty()) throw ModelFailed(result.failure);
+}
+
+}  // namespace gdm
