@@ -19,6 +19,8 @@ itk_module(GeometricallyDeformedModel
     ITKSmoothing
     ITKThresholding
     ITKImageGrid
+    ITKConnectedComponents
+    ITKDistanceMap
   EXCLUDE_FROM_DEFAULT
   DESCRIPTION
     "${DOCUMENTATION}"

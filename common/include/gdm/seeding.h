@@ -25,10 +25,18 @@ struct AutoSeed {
 // farthest (Euclidean, in mm) from the region's boundary and from the
 // volume's border; the first in raster order on ties. Throws InvalidSeed when
 // no voxel is on the object side or the region has no interior voxel.
+// As ITK's SignedMaurerDistanceMapImageFilter measures it, the region's
+// boundary is its contour: the region voxels with a voxel outside the region
+// among their 26 neighbours (inside the image); contour voxels are never the
+// centre, and the volume's border counts as (index + 0.5) * spacing. Ties
+// between equally large regions go to the one whose first voxel comes first
+// in raster order. Throws InvalidOption for a non-finite threshold.
 AutoSeed find_auto_seed(const Volume& volume, double threshold, Polarity polarity);
 
 // A closed box `inset_voxels` voxels inside the volume's border, outward
 // oriented in physical space (12 faces): the seed of shrink mode.
+// Throws InvalidOption when the inset is negative, not finite, or leaves no
+// box (2 * inset >= dims - 1 on an axis).
 Mesh make_volume_box(const Volume& volume, double inset_voxels = 1.0);
 
 // Makes a user's seed mesh safe to deform: throws InvalidSeed (naming the

@@ -27,6 +27,11 @@ Volume gaussian_smooth(const Volume& volume, double sigma_mm);
 // Otsu's threshold between the volume's two classes from a `bins`-bin
 // histogram over [min, max] (the value at the upper edge of the last bin of
 // the lower class). Throws InvalidVolume for a constant volume.
+// The same number as ITK 5.2's itk::OtsuThresholdImageFilter on a float
+// image with `bins` bins: its histogram spans [min, max + (max - min) / bins
+// / 100] with ITK's bin edges, the first maximum of the between-class
+// variance wins, and the edge is returned rounded to float as ITK does.
+// Throws InvalidOption for fewer than 2 bins.
 double otsu_threshold(const Volume& volume, int bins = 256);
 
 }  // namespace gdm
