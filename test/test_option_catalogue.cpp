@@ -4,6 +4,8 @@
 
 #include <cctype>
 #include <cmath>
+#include <fstream>
+#include <sstream>
 #include <limits>
 #include <set>
 
@@ -107,6 +109,15 @@ TEST(OptionCatalogue, pipeline_catalogue_reaches_the_deform_options) {
   } catch (const InvalidOption& e) {
     EXPECT_EQ(e.option(), "seed_level");
   }
+}
+
+TEST(OptionCatalogue, docs_options_md_is_generated_from_the_catalogue) {
+  std::ifstream in(GDM_SOURCE_DIR "/docs/options.md");
+  ASSERT_TRUE(in) << "docs/options.md is missing";
+  std::stringstream text;
+  text << in.rdbuf();
+  EXPECT_EQ(text.str(), options_markdown())
+      << "docs/options.md is stale: run build/common/gdm_options_markdown > docs/options.md";
 }
 
 }  // namespace

@@ -189,6 +189,31 @@ const std::vector<OptionEntry<PipelineOptions>>& pipeline_option_catalogue() {
   return catalogue;
 }
 
+std::string options_markdown() {
+  const PipelineOptions defaults;
+  std::ostringstream s;
+  s << "# gdm options\n\n"
+    << "Generated from the catalogue of options (`common/include/gdm/option_catalogue.h`,\n"
+    << "`gdm::pipeline_option_catalogue()`) by `gdm_options_markdown`; a test fails when this\n"
+    << "file is stale. Every front end spells an option the same way: the C++ field and\n"
+    << "the MeshLab parameter are the name, the `gdm` flag is `--name-with-dashes`.\n"
+    << "The `gdm` command adds `--threshold T|otsu`, `--roi`, `--seed`, `--seed-index`,\n"
+    << "`--seed-mesh`, `--series`, `--output`, `--report` and `--quiet` (see `gdm --help`).\n";
+  std::string group;
+  for (const auto& o : pipeline_option_catalogue()) {
+    if (o.group != group) {
+      group = o.group;
+      s << "\n## " << group << "\n\n| name | flag | unit | default | range | what it does |\n|---|---|---|---|---|---|\n";
+    }
+    std::string flag = "--" + o.name;
+    std::replace(flag.begin(), flag.end(), '_', '-');
+    if (!o.alias.empty()) flag += " (--" + o.alias + ")";
+    s << "| `" << o.name << "` | `" << flag << "` | " << o.unit << " | " << value_text(o, o.get(defaults)) << " | "
+      << range_text(o) << " | " << o.help << " |\n";
+  }
+  return s.str();
+}
+
 void validate(const PipelineOptions& o) {
   for (const auto& option : pipeline_option_catalogue()) check_option(option, option.get(o));
   if (!o.threshold_otsu && !std::isfinite(o.threshold))

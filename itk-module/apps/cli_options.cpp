@@ -201,6 +201,12 @@ OptionSpec catalogue_row(const gdm::OptionEntry<gdm::PipelineOptions>& e) {
     case gdm::OptionType::integer: metavar = "N"; break;
     case gdm::OptionType::real: metavar = "X"; break;
   }
+  // An on/off option that is off by default is a bare flag (--allow-border).
+  if (e.type == gdm::OptionType::boolean && e.get(gdm::PipelineOptions{}) == 0.0) {
+    const auto set = e.set;
+    return row(flag_name(e.name), "", e.unit, e.group, e.help,
+               {[set](Options& o, const std::string&) { set(o.pipeline, 1.0); }, catalogue(e).get});
+  }
   std::string help = e.help;
   if (e.type == gdm::OptionType::real || e.type == gdm::OptionType::integer) help += ", " + gdm::range_text(e);
   OptionSpec spec = row(flag_name(e.name), metavar, e.unit, e.group, help, catalogue(e));

@@ -64,6 +64,10 @@ struct PipelineOptions {
 // and the model's, lifted from DeformOptions: what front ends list.
 const std::vector<OptionEntry<PipelineOptions>>& pipeline_option_catalogue();
 
+// The catalogue as a Markdown table per group (name, command-line flag, unit,
+// default, range, help): docs/options.md, which the README links to.
+std::string options_markdown();
+
 // Checks every option against the catalogue and the seed's own fields;
 // throws InvalidOption naming the option (before any work is done).
 void validate(const PipelineOptions& options);
