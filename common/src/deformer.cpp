@@ -24,6 +24,7 @@ std::string to_string(StopReason reason) {
     case StopReason::max_cycles: return "reached the maximum number of cycles";
     case StopReason::face_limit: return "reached the face limit";
     case StopReason::cancelled: return "cancelled";
+    case StopReason::border: return "reached the volume border";
   }
   return "unknown";
 }
@@ -422,6 +423,10 @@ DeformResult Deformer::run() {
     }
     if (mesh_.n_faces() > o_.max_faces) {
       result.reason = StopReason::face_limit;
+      break;
+    }
+    if (o_.stop_at_border && count_border_vertices() > 0) {
+      result.reason = StopReason::border;
       break;
     }
     if (!converged(cycle)) continue;

@@ -52,6 +52,9 @@ std::vector<OptionEntry<PipelineOptions>> make_pipeline_catalogue() {
       row("seed_level", seed, "", "subdivisions of the icosahedron seed (20*4^N faces)", OptionType::integer, 0, 4,
           [](const PipelineOptions& o) { return static_cast<double>(o.seed.level); },
           [](PipelineOptions& o, double v) { o.seed.level = static_cast<int>(v); }),
+      row("time_limit", "Guarantees and limits", "s", "stop the model after this many seconds and report it as failed (0 = no limit)",
+          OptionType::real, 0.0, 1e9, [](const PipelineOptions& o) { return o.time_limit; },
+          [](PipelineOptions& o, double v) { o.time_limit = v; }),
       row("allow_border", "Output", "", "accept a model that reached the volume border (else it is a leak)",
           OptionType::boolean, 0, 1, [](const PipelineOptions& o) { return o.allow_border ? 1.0 : 0.0; },
           [](PipelineOptions& o, double v) { o.allow_border = v != 0.0; }),
@@ -109,6 +112,25 @@ void check_seed_sphere(const Volume& volume, const Vec3& c, double radius, const
   }
 }
 
+// Refuses a run whose faces could not even cover the volume's box within
+// max_faces: the faces of the level of detail are at least half its area.
+void check_face_budget(const Volume& volume, const DeformOptions& d) {
+  Vec3 extent;
+  for (int axis = 0; axis < 3; ++axis) extent[axis] = (volume.dims()[axis] - 1) * volume.spacing()[axis];
+  const double box_area = 2.0 * (extent.x() * extent.y() + extent.y() * extent.z() + extent.z() * extent.x());
+  const double face_area = d.lod_face_area * volume.voxel_size() * volume.voxel_size();
+  const double faces = 2.0 * box_area / face_area;
+  if (faces > static_cast<double>(d.max_faces))
+    throw InvalidOption("lod_face_area",
+                        "lod_face_area " + num(d.lod_face_area) + " voxel^2 (" + num(face_area) +
+                            " mm^2, one voxel being the smallest spacing " + num(volume.voxel_size()) +
+                            " mm) would need about " + num(faces) + " faces to cover the volume's box (" +
+                            num(box_area) + " mm^2), above max_faces " + std::to_string(d.max_faces) +
+                            ": raise lod_face_area or max_faces, or resample the volume (spacing " +
+                            num(volume.spacing().x()) + " x " + num(volume.spacing().y()) + " x " +
+                            num(volume.spacing().z()) + " mm)");
+}
+
 Mesh choose_seed(const Volume& input, const Volume& volume, const PipelineOptions& o, const DeformOptions& d,
                  PipelineChoices& choices) {
   const SeedOptions& s = o.seed;
@@ -157,6 +179,9 @@ Mesh choose_seed(const Volume& input, const Volume& volume, const PipelineOption
       return mesh;
     }
   }
+  if (!(radius >= 0.1 * volume.voxel_size()))
+    throw InvalidOption("seed_radius", "seed_radius " + num(radius) + " mm is below a tenth of a voxel (" +
+                                           num(0.1 * volume.voxel_size()) + " mm): the seed would be degenerate");
   choices.seed_center = center;
   choices.seed_radius = radius;
   Mesh sphere = make_geodesic_sphere(center, radius, s.level);
@@ -229,8 +254,12 @@ PreparedModel prepare_model(const Volume& input, const PipelineOptions& o) {
   p.deform = o.deform;
   p.deform.threshold = choose_threshold(*p.volume, o, p.choices);
   validate(p.deform, *p.volume);
+  check_face_budget(*p.volume, p.deform);
   p.seed = choose_seed(input, *p.volume, o, p.deform, p.choices);
   p.allow_border = o.allow_border;
+  p.time_limit = o.time_limit;
+  // A growing leak stops at its first contact with the border (a shrinking model starts there).
+  p.deform.stop_at_border = !o.allow_border && p.deform.mode == Mode::grow;
   return p;
 }
 
@@ -256,11 +285,22 @@ PipelineResult run_model(const PreparedModel& p, const PipelineObserver& observe
   r.choices = p.choices;
   DeformObserver on_cycle;
   ProgressEstimator estimator(p.deform.global_refinements, p.deform.max_cycles);
-  if (observer)
-    on_cycle = [&](const CycleReport& c) { return observer({c, estimator.update(c)}); };
+  bool out_of_time = false;
+  const auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+  if (observer || p.time_limit > 0.0)
+    on_cycle = [&](const CycleReport& c) {
+      if (p.time_limit > 0.0 && elapsed() > p.time_limit) {
+        out_of_time = true;
+        return false;
+      }
+      return !observer || observer({c, estimator.update(c)});
+    };
   r.deform = deform(r.mesh, *p.volume, p.deform, on_cycle);
   r.mesh.garbage_collection();
-  if (r.deform.reason != StopReason::cancelled) {
+  if (out_of_time) {
+    r.failure = "the model ran out of time (time_limit " + num(p.time_limit) + " s) after " +
+                std::to_string(r.deform.cycles) + " cycles with " + std::to_string(r.mesh.n_faces()) + " faces";
+  } else if (r.deform.reason != StopReason::cancelled) {
     r.report = measure(r.mesh);
     r.failure = failure_of(r.deform, r.report, p.deform, p.allow_border);
   } else {

@@ -42,6 +42,9 @@ struct DeformOptions {
   double flip_max_dihedral = 20.0;   // only flip where faces are this close to flat, degrees
   int threads = 0;                   // worker threads; 0 = all cores; results do not depend on it
   std::size_t max_faces = 2000000;   // stop when the model grows past this many faces
+  bool stop_at_border = false;       // stop as soon as a vertex comes within a voxel of the volume's
+                                     // border (StopReason::border: a leak, said within a cycle of the
+                                     // first contact instead of after converging outside the object)
 
   // Beyond the paper: the final fit and the error-driven level of detail, run
   // once after the last convergence (see surface_fit.h and error_lod.h).
@@ -80,7 +83,7 @@ struct CycleReport {
 // Returns false to cancel the run.
 using DeformObserver = std::function<bool(const CycleReport&)>;
 
-enum class StopReason { converged, max_cycles, face_limit, cancelled };
+enum class StopReason { converged, max_cycles, face_limit, cancelled, border };
 std::string to_string(StopReason reason);
 
 struct DeformResult {

@@ -58,6 +58,7 @@ struct PipelineOptions {
   SeedOptions seed;          // where the model starts
   DeformOptions deform;      // the model (its threshold is set from the above)
   bool allow_border = false; // accept a model that reached the volume's border (the object is cut by the scan)
+  double time_limit = 0.0;   // seconds the model may run; 0 = no limit (a stopped model is a failure)
 };
 
 // The pipeline's own options (smooth, seed_radius, seed_level, allow_border)
@@ -92,12 +93,15 @@ struct PreparedModel {
   Mesh seed;
   PipelineChoices choices;
   bool allow_border = false;
+  double time_limit = 0.0;  // seconds; 0 = none
 };
 
 // Steps 1 to 3: preprocess, threshold, seed. Throws InvalidOption (bad
 // option, threshold outside the value range), InvalidVolume (empty or
 // constant volume) or InvalidSeed (seed outside the volume or the object,
-// unusable seed mesh). `volume` must outlive the result when neither roi nor
+// unusable seed mesh). A run whose level of detail would need more than
+// max_faces faces to cover the volume's box (a tiny lod_face_area, or extreme
+// anisotropy: one voxel is the smallest spacing) is refused up front. `volume` must outlive the result when neither roi nor
 // smoothing is used.
 PreparedModel prepare_model(const Volume& volume, const PipelineOptions& options);
 
