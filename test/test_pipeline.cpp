@@ -152,6 +152,12 @@ TEST(Pipeline, a_leak_to_the_border_is_a_failure_unless_allowed) {
   const PipelineResult r = extract_surface(volume, o);
   EXPECT_NE(r.failure.find("reached the volume border"), std::string::npos) << r.failure;
   EXPECT_THROW(require_success(r), ModelFailed);
+  EXPECT_EQ(r.deform.reason, StopReason::border);
+  // It stopped at the first contact, long before the leaked model would have converged.
+  o.allow_border = true;
+  const PipelineResult allowed = extract_surface(volume, o);
+  EXPECT_TRUE(allowed.failure.empty()) << allowed.failure;
+  EXPECT_LT(r.deform.cycles * 3, allowed.deform.cycles) << r.deform.cycles << " vs " << allowed.deform.cycles;
 }
 
 TEST(Pipeline, a_seed_mesh_pointing_inwards_is_reversed) {
