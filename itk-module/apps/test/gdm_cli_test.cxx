@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -26,6 +27,7 @@
 #include "itkImageFileReader.h"
 #include "itkImageFileWriter.h"
 #include "itkImageRegionConstIteratorWithIndex.h"
+#include "itkImageRegionIteratorWithIndex.h"
 #include "itkImageSeriesWriter.h"
 #include "itkMesh.h"
 #include "itkMeshFileReader.h"
@@ -939,3 +941,97 @@ TEST(Phantom, AutoSeedInsideAConcaveObject) {
 }
 
 }  // namespace
+
+// ------------------------------------------------- hostile input (issue 13) --
+
+// A small blob volume written here, with any spacing.
+void write_blob(const fs::path& path, const std::array<double, 3>& spacing) {
+  auto image = ShortImage::New();
+  ShortImage::RegionType region;
+  region.SetSize({{32, 32, 32}});
+  image->SetRegions(region);
+  image->Allocate();
+  const double s[3] = {spacing[0], spacing[1], spacing[2]};
+  image->SetSpacing(s);
+  itk::ImageRegionIteratorWithIndex<ShortImage> it(image, region);
+  for (it.GoToBegin(); !it.IsAtEnd(); ++it) {
+    const auto i = it.GetIndex();
+    const double r = std::hypot(i[0] - 15.5, i[1] - 15.5, i[2] - 15.5);
+    it.Set(r < 9.0 ? 1000 : 0);
+  }
+  itk::WriteImage(image, path.string());
+}
+
+// Item 2: no output may overwrite the input or the other output; the input is untouched.
+TEST(Hostile, OutputsNeverOverwriteTheInput) {
+  const fs::path dir = work_dir();
+  write_blob(dir / "in.vtk", {1, 1, 1});
+  const std::string before = slurp(dir / "in.vtk");
+  expect_failure(dir, {"in.vtk", "-o", "in.vtk"}, 2, "--output in.vtk is the input");
+  expect_failure(dir, {"in.vtk", "-o", "m.ply", "--report", "in.vtk"}, 2, "--report in.vtk is the input");
+  expect_failure(dir, {"in.vtk", "-o", "x.vtk", "--report", "x.vtk"}, 2, "--report and --output name the same file");
+  expect_failure(dir, {"in.vtk", "-o", "./in.vtk"}, 2, "is the input");
+  EXPECT_EQ(slurp(dir / "in.vtk"), before);
+  EXPECT_FALSE(fs::exists(dir / "m.ply"));
+  EXPECT_FALSE(fs::exists(dir / "x.vtk"));
+}
+
+// Items 7 and 9: values that would run a no-op or an undefined cast are refused at once.
+TEST(Hostile, AbsurdValuesAreRefusedBeforeTheRun) {
+  const fs::path dir = work_dir();
+  expect_failure(dir, {"--a0", "0"}, 2, "--a0: must be > 0");
+  expect_failure(dir, {"--a0", "inf"}, 2, "--a0: must be > 0");
+  expect_failure(dir, {"--a2", "1e309"}, 2, "--a2");
+  expect_failure(dir, {"--seed-level", "5"}, 2, "--seed-level: must be in [0, 4], got 5");
+  expect_failure(dir, {"--seed-index", "1e20,0,0"}, 2, "--seed-index: needs integer voxel indices (at most 1e9)");
+  expect_failure(dir, {"--roi", "0,0,0,1e20,5,5"}, 2, "--roi: needs non-negative integer voxel indices");
+  expect_failure(dir, {"--seed-radius", "1e-300"}, 2, "--seed-radius: seed_radius 1e-300 mm is below a tenth of a voxel");
+  expect_failure(dir, {"-o", "no-such-folder/m.ply"}, 5, "the folder no-such-folder of the output does not exist");
+}
+
+// Item 8: extreme anisotropy would need billions of faces: refused up front, naming the spacing.
+TEST(Hostile, ExtremeAnisotropyIsRefusedUpFront) {
+  const fs::path dir = work_dir();
+  write_blob(dir / "thin.mha", {0.001, 1.0, 1000.0});
+  const auto start = std::chrono::steady_clock::now();
+  expect_failure(dir, {"thin.mha", "--threshold", "500", "-o", "m.ply"}, 2, "--lod-face-area: lod_face_area 10 voxel^2");
+  const GdmRun r = run_gdm(dir, {"thin.mha", "--threshold", "500", "-o", "m.ply"});
+  EXPECT_NE(r.err.find("resample the volume (spacing 0.001 x 1 x 1000 mm)"), std::string::npos) << r.err;
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 20.0);
+  EXPECT_FALSE(fs::exists(dir / "m.ply"));
+}
+
+// Item 6: a seed mesh that intersects itself, or is flat, is refused before it is used.
+TEST(Hostile, BadSeedMeshesAreRefused) {
+  const fs::path dir = work_dir();
+  write_blob(dir / "in.mha", {1, 1, 1});
+  // Two overlapping octahedra in one file: closed and manifold, but self-intersecting.
+  std::ofstream twin(dir / "twin.off");
+  twin << "OFF\n12 16 0\n";
+  for (const double cx : {15.5, 16.5})
+    twin << cx + 2 << " 15.5 15.5\n" << cx - 2 << " 15.5 15.5\n" << cx << " 17.5 15.5\n" << cx << " 13.5 15.5\n"
+         << cx << " 15.5 17.5\n" << cx << " 15.5 13.5\n";
+  for (const int o : {0, 6}) {
+    const int f[8][3] = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
+    for (const auto& t : f) twin << "3 " << t[0] + o << " " << t[1] + o << " " << t[2] + o << "\n";
+  }
+  twin.close();
+  expect_failure(dir, {"in.mha", "--threshold", "500", "--seed-mesh", "twin.off", "-o", "m.ply"}, 2,
+                 "the seed mesh intersects itself");
+  std::ofstream empty(dir / "empty.obj");
+  empty.close();
+  const GdmRun r = run_gdm(dir, {"in.mha", "--threshold", "500", "--seed-mesh", "empty.obj", "-o", "m.ply"});
+  EXPECT_EQ(r.code, 3) << r.err;
+  EXPECT_NE(r.err.find("cannot read the seed mesh empty.obj"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "m.ply"));
+}
+
+// The leak of ModelFailure.LeakToTheBorder is said within a few cycles of the first contact.
+TEST(Hostile, LeakStopsAtTheFirstContact) {
+  const fs::path dir = work_dir();
+  const GdmRun r = run_gdm(dir, {"--polarity", "dark", "-o", "out.ply", "--report", "out.json", "--quiet"});
+  EXPECT_EQ(r.code, 4) << r.err;
+  const std::string json = slurp(dir / "out.json");
+  EXPECT_NE(json.find("\"stop_reason\": \"reached the volume border\""), std::string::npos) << json;
+  EXPECT_LT(json_value(json, "cycles"), 60.0);
+}
