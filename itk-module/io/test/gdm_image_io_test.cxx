@@ -38,10 +38,20 @@ namespace {
 using ShortImage = itk::Image<short, 3>;
 using FloatImage = itk::Image<float, 3>;
 
+fs::path work_root() { return fs::temp_directory_path() / ("gdm_image_io_" + std::to_string(::getpid())); }
+
+// Removes this process's temporary folder when the tests end.
+struct RemoveWorkRoot : ::testing::Environment {
+  void TearDown() override {
+    std::error_code ignored;
+    fs::remove_all(work_root(), ignored);
+  }
+};
+const auto* const remove_work_root = ::testing::AddGlobalTestEnvironment(new RemoveWorkRoot);
+
 fs::path work_dir() {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  fs::path dir = fs::temp_directory_path() / ("gdm_image_io_" + std::to_string(::getpid())) /
-                 (std::string(info->test_suite_name()) + "." + info->name());
+  fs::path dir = work_root() / (std::string(info->test_suite_name()) + "." + info->name());
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;
