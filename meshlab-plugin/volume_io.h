@@ -1,5 +1,6 @@
-// Reading volume files for the MeshLab plugin through ITK's readers. The only
-// header of the plugin that names ITK's work; ITK itself stays in volume_io.cpp.
+// Reading volume files for the MeshLab plugin: a thin layer over
+// gdm::read_volume (itk-module/io, gdm/image_io.h), the reader the gdm command
+// line uses. No ITK here: ITK stays inside gdm::image_io.
 #pragma once
 
 #include <string>
@@ -9,10 +10,13 @@
 namespace gdm_meshlab {
 
 // Reads a scalar volume: a file ITK can read (.mha, .mhd, .nrrd, .nhdr, .nii,
-// .nii.gz) or a directory holding one DICOM series. Throws std::runtime_error
-// with a message naming the path and the problem (missing, unreadable, not 3D,
-// a directory without DICOM series) and gdm::InvalidVolume for grids gdm cannot
-// use. `description` receives one line about what was read.
+// .nii.gz, .vtk) or a directory holding DICOM series (the one with most
+// slices). Throws std::runtime_error for an empty or missing path,
+// gdm::InvalidInput (a std::runtime_error) naming the file and the problem
+// (unreadable, not 3D, truncated, a lying header, bad spacing, non-finite
+// values, DICOM slices duplicated, missing or tilted, ...) and
+// gdm::InvalidVolume for grids gdm cannot use. `description` receives one
+// line about what was read.
 gdm::Volume read_volume(const std::string& path, std::string* description = nullptr);
 
 }  // namespace gdm_meshlab

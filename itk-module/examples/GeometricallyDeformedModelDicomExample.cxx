@@ -1,4 +1,4 @@
-// Example pipeline: a DICOM series -> Gaussian smoothing -> in-plane
+// Example pipeline: a DICOM series (read by gdm::read_volume) -> Gaussian smoothing -> in-plane
 // shrinking -> GeometricallyDeformedModelImageToMeshFilter -> mesh file.
 //
 //   GeometricallyDeformedModelDicomExample <dicom folder> <output mesh (.vtk, .obj, ...)>
@@ -10,14 +10,13 @@
 #include <cstdlib>
 #include <iostream>
 
-#include "itkGDCMImageIO.h"
-#include "itkGDCMSeriesFileNames.h"
 #include "itkGeometricallyDeformedModelImageToMeshFilter.h"
-#include "itkImageSeriesReader.h"
 #include "itkMesh.h"
 #include "itkMeshFileWriter.h"
 #include "itkShrinkImageFilter.h"
 #include "itkSmoothingRecursiveGaussianImageFilter.h"
+
+#include "gdm/image_io.h"  // gdm::read_volume: the series with most slices, its geometry checked
 
 int
 main(int argc, char * argv[])
@@ -39,29 +38,42 @@ main(int argc, char * argv[])
 
   try
   {
-    auto names = itk::GDCMSeriesFileNames::New();
-    names->SetUseSeriesDetails(true);
-    names->SetDirectory(argv[1]);
-    const auto & series = names->GetSeriesUIDs();
-    if (series.empty())
+    // gdm::read_volume picks the series with most slices, refuses duplicated,
+    // missing or tilted slices and takes the slice spacing from the positions.
+    gdm::ImageInfo    info;
+    const gdm::Volume volume = gdm::read_volume(argv[1], {}, &info);
+    for (const auto & warning : info.warnings)
     {
-      std::cerr << "No DICOM series in " << argv[1] << std::endl;
-      return EXIT_FAILURE;
+      std::cerr << "warning: " << warning << std::endl;
     }
-
-    using ReaderType = itk::ImageSeriesReader<ImageType>;
-    auto reader = ReaderType::New();
-    reader->SetImageIO(itk::GDCMImageIO::New());
-    reader->SetFileNames(names->GetFileNames(series.front()));
-    reader->Update();
-    const ImageType * image = reader->GetOutput();
-    std::cout << "series " << series.front() << ": " << reader->GetFileNames().size() << " files, size "
-              << image->GetLargestPossibleRegion().GetSize() << ", spacing " << image->GetSpacing() << ", origin "
-              << image->GetOrigin() << std::endl;
+    auto                    input = ImageType::New();
+    ImageType::SizeType     size;
+    ImageType::SpacingType  spacing;
+    ImageType::PointType    origin;
+    ImageType::DirectionType direction;
+    for (unsigned int d = 0; d < 3; ++d)
+    {
+      size[d] = info.dims[d];
+      spacing[d] = info.spacing[d];
+      origin[d] = info.origin[d];
+      for (unsigned int c = 0; c < 3; ++c)
+      {
+        direction[d][c] = info.direction[3 * d + c];
+      }
+    }
+    input->SetRegions(ImageType::RegionType(size));
+    input->SetSpacing(spacing);
+    input->SetOrigin(origin);
+    input->SetDirection(direction);
+    input->Allocate();
+    std::copy(volume.values().begin(), volume.values().end(), input->GetBufferPointer());
+    std::cout << info.format << " " << info.series_uid << ": " << info.slices << " files, size "
+              << input->GetLargestPossibleRegion().GetSize() << ", spacing " << input->GetSpacing() << ", origin "
+              << input->GetOrigin() << std::endl;
 
     using SmoothingType = itk::SmoothingRecursiveGaussianImageFilter<ImageType, ImageType>;
     auto smoothing = SmoothingType::New();
-    smoothing->SetInput(reader->GetOutput());
+    smoothing->SetInput(input);
     smoothing->SetSigma(sigma);
 
     using ShrinkType = itk::ShrinkImageFilter<ImageType, ImageType>;
@@ -129,6 +141,11 @@ main(int argc, char * argv[])
   catch (const itk::ExceptionObject & error)
   {
     std::cerr << "Error: " << error << std::endl;
+    return EXIT_FAILURE;
+  }
+  catch (const gdm::Error & error)
+  {
+    std::cerr << "Error: " << error.what() << std::endl;
     return EXIT_FAILURE;
   }
   return EXIT_SUCCESS;

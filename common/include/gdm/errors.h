@@ -38,4 +38,10 @@ class InvalidSeed : public Error {
   using Error::Error;
 };
 
+// An input file that cannot be read or contradicts itself (truncated, a header that lies, ...).
+class InvalidInput : public Error {
+ public:
+  using Error::Error;
+};
+
 }  // namespace gdm

@@ -1,0 +1,723 @@
+// gdm::read_volume over ITK (see gdm/image_io.h). The only ITK translation unit
+// of gdm_image_io. ITK's headers come first: ITK carries its own Eigen 3.3,
+// which must be seen before the system Eigen 3.4 that the gdm headers include.
+#include "itkGDCMImageIO.h"
+#include "itkGDCMSeriesFileNames.h"
+#include "itkImage.h"
+#include "itkImageFileReader.h"
+#include "itkImageIOFactory.h"
+#include "itkImageSeriesReader.h"
+#include "itkMetaDataObject.h"
+#include "itkSymmetricEigenAnalysis.h"  // ITK's Eigen before the system one
+
+#include <gdcmScanner.h>
+#include <gdcmTag.h>
+#include <sys/stat.h>
+#include <zlib.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <sstream>
+
+#include "gdm/image_io.h"
+
+namespace gdm {
+namespace {
+
+using Image = itk::Image<float, 3>;
+
+// ------------------------------------------------------------ helpers --
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+bool ends_with(const std::string& s, const std::string& tail) {
+  return s.size() >= tail.size() && lower(s).compare(s.size() - tail.size(), tail.size(), tail) == 0;
+}
+
+std::string trim(const std::string& s) {
+  const auto a = s.find_first_not_of(" \t\r\n");
+  if (a == std::string::npos) return "";
+  const auto b = s.find_last_not_of(" \t\r\n");
+  return s.substr(a, b - a + 1);
+}
+
+std::string directory_of(const std::string& path) {
+  const auto slash = path.find_last_of('/');
+  return slash == std::string::npos ? std::string(".") : path.substr(0, slash);
+}
+
+std::string resolve(const std::string& header, const std::string& file) {
+  if (!file.empty() && file[0] == '/') return file;
+  return directory_of(header) + "/" + file;
+}
+
+// File size in bytes, or -1.
+long long file_size(const std::string& path) {
+  struct stat s {};
+  if (::stat(path.c_str(), &s) != 0) return -1;
+  return static_cast<long long>(s.st_size);
+}
+
+std::string number(double v) {
+  std::ostringstream s;
+  s.precision(6);
+  s << v;
+  return s.str();
+}
+
+std::string bytes_text(long double bytes) {
+  std::ostringstream s;
+  s.precision(3);
+  if (bytes >= 1024.0L * 1024 * 1024)
+    s << static_cast<double>(bytes / (1024.0L * 1024 * 1024)) << " GiB";
+  else if (bytes >= 1024.0L * 1024)
+    s << static_cast<double>(bytes / (1024.0L * 1024)) << " MiB";
+  else
+    s << static_cast<long long>(bytes) << " bytes";
+  return s.str();
+}
+
+std::string dims_text(const std::vector<unsigned long long>& dims) {
+  std::string s;
+  for (std::size_t i = 0; i < dims.size(); ++i) s += (i ? " x " : "") + std::to_string(dims[i]);
+  return s;
+}
+
+// A spacing read from a header: must be finite and positive.
+void check_header_spacing(const std::string& path, const std::string& field, const std::vector<double>& values,
+                          std::size_t axes, std::size_t first_axis = 0) {
+  for (std::size_t d = 0; d < std::min(axes, values.size()); ++d)
+    if (!(values[d] > 0.0) || !std::isfinite(values[d]))
+      throw InvalidInput(path + ": the header's spacing (" + field + ") along axis " + std::to_string(first_axis + d) + " is " +
+                         number(values[d]) + "; a spacing must be a positive finite number of mm");
+}
+
+std::vector<double> parse_numbers(const std::string& text) {
+  std::vector<double> out;
+  std::istringstream in(text);
+  std::string word;
+  while (in >> word) {
+    const std::string w = lower(word);
+    if (w == "nan" || w == "-nan" || w == "+nan")
+      out.push_back(std::numeric_limits<double>::quiet_NaN());
+    else if (w == "inf" || w == "+inf" || w == "infinity")
+      out.push_back(std::numeric_limits<double>::infinity());
+    else if (w == "-inf" || w == "-infinity")
+      out.push_back(-std::numeric_limits<double>::infinity());
+    else {
+      char* end = nullptr;
+      const double v = std::strtod(word.c_str(), &end);
+      out.push_back(end && *end == '\0' ? v : std::numeric_limits<double>::quiet_NaN());
+    }
+  }
+  return out;
+}
+
+std::string voxel_claim(const std::string& path, unsigned long long voxels, long double expected,
+                        long double held, const std::string& where) {
+  return path + ": the header claims " + std::to_string(voxels) + " voxels (" + bytes_text(expected) +
+         " of data) but " + where + " holds " + bytes_text(held) + " (truncated or a header that lies)";
+}
+
+// ------------------------------------------------- per-format headers --
+// ITK sanitises some header values (a spacing of 0 becomes 1, a negative one
+// loses its sign) and trusts the header's voxel count; these read the header
+// text / bytes themselves. Called twice: before ITK reads the header (the
+// spacing only: `expected` < 0), and after (the data size against the voxel
+// count ITK read).
+
+// MetaImage (.mha/.mhd): spacing, and the data size of uncompressed data.
+void check_metaimage(const std::string& path, unsigned long long voxels, long double expected) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  std::map<std::string, std::string> fields;
+  std::streamoff header_end = -1;
+  while (std::getline(in, line)) {
+    const auto eq = line.find('=');
+    if (eq == std::string::npos) continue;
+    const std::string key = lower(trim(line.substr(0, eq)));
+    fields[key] = trim(line.substr(eq + 1));
+    if (key == "elementdatafile") {
+      header_end = in.tellg();
+      break;
+    }
+    if (in.tellg() > 1 << 20) break;  // not a header
+  }
+  const std::size_t ndims = fields.count("ndims") ? static_cast<std::size_t>(std::atoi(fields["ndims"].c_str())) : 3;
+  if (fields.count("elementspacing"))
+    check_header_spacing(path, "ElementSpacing", parse_numbers(fields["elementspacing"]), ndims);
+  else if (fields.count("elementsize"))
+    check_header_spacing(path, "ElementSize", parse_numbers(fields["elementsize"]), ndims);
+  if (expected < 0) return;
+  const std::string compressed = lower(fields["compresseddata"]);
+  if (compressed == "true" || compressed == "1") return;  // sizes checked after reading (memory limit before)
+  if (fields.count("headersize") && std::atoll(fields["headersize"].c_str()) < 0) return;  // data at the end
+  const long long skip = fields.count("headersize") ? std::atoll(fields["headersize"].c_str()) : 0;
+  const std::string data = fields["elementdatafile"];
+  if (lower(data) == "local") {
+    if (header_end < 0) return;
+    const long long size = file_size(path);
+    const long double held = static_cast<long double>(size - header_end);
+    if (held < expected) throw InvalidInput(voxel_claim(path, voxels, expected, held, "the file"));
+  } else if (!data.empty() && data.find('%') == std::string::npos && data.find(' ') == std::string::npos &&
+             lower(data) != "list") {
+    const std::string raw = resolve(path, data);
+    const long long size = file_size(raw);
+    if (size < 0) throw InvalidInput(path + ": its data file " + raw + " does not exist");
+    const long double held = static_cast<long double>(size - skip);
+    if (held < expected) throw InvalidInput(voxel_claim(path, voxels, expected, held, "its data file " + raw));
+  }
+}
+
+// NRRD (.nrrd/.nhdr): spacings / space directions, and raw data sizes.
+void check_nrrd(const std::string& path, unsigned long long voxels, long double expected) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  std::map<std::string, std::string> fields;
+  std::streamoff header_end = -1;
+  bool first = true;
+  while (std::getline(in, line)) {
+    if (first) {
+      first = false;
+      if (line.rfind("NRRD", 0) != 0) return;
+      continue;
+    }
+    if (trim(line).empty()) {
+      header_end = in.tellg();
+      break;
+    }
+    if (line[0] == '#') continue;
+    const auto colon = line.find(':');
+    if (colon == std::string::npos) continue;
+    std::string key = lower(trim(line.substr(0, colon)));
+    std::string value = line.substr(colon + 1);
+    if (!value.empty() && value[0] == '=') continue;  // key:=value pairs
+    fields[key] = trim(value);
+    if (in.tellg() > 1 << 20) break;
+  }
+  if (header_end < 0) header_end = in.eof() ? file_size(path) : static_cast<std::streamoff>(in.tellg());
+  const std::size_t ndims = fields.count("dimension") ? static_cast<std::size_t>(std::atoi(fields["dimension"].c_str())) : 3;
+  if (fields.count("spacings")) {
+    std::vector<double> s = parse_numbers(fields["spacings"]);
+    check_header_spacing(path, "spacings", s, std::min<std::size_t>(ndims, 3));
+  }
+  if (fields.count("space directions")) {
+    // "(a,b,c) (d,e,f) none ...": each vector's length is that axis' spacing.
+    const std::string& text = fields["space directions"];
+    std::size_t axis = 0, at = 0;
+    while (at < text.size()) {
+      while (at < text.size() && std::isspace(static_cast<unsigned char>(text[at]))) ++at;
+      if (at >= text.size()) break;
+      if (text[at] == '(') {
+        const auto close = text.find(')', at);
+        if (close == std::string::npos) break;
+        std::string inner = text.substr(at + 1, close - at - 1);
+        std::replace(inner.begin(), inner.end(), ',', ' ');
+        double norm2 = 0.0;
+        for (double v : parse_numbers(inner)) norm2 += v * v;
+        check_header_spacing(path, "length of its space direction", {std::sqrt(norm2)}, 1, axis);
+        at = close + 1;
+      } else {
+        at = text.find(' ', at);  // "none"
+        if (at == std::string::npos) break;
+      }
+      ++axis;
+    }
+  }
+  if (expected < 0) return;
+  const std::string encoding = lower(fields.count("encoding") ? fields["encoding"] : "raw");
+  if (encoding != "raw") return;  // compressed or text: sizes checked by the reader / after reading
+  long long skip = fields.count("byte skip") ? std::atoll(fields["byte skip"].c_str()) : 0;
+  if (skip < 0) return;  // data at the end of the file
+  if (fields.count("line skip") && std::atoll(fields["line skip"].c_str()) != 0) return;
+  std::string data = fields.count("data file") ? fields["data file"] : fields["datafile"];
+  if (data.empty()) {
+    const long double held = static_cast<long double>(file_size(path) - header_end - skip);
+    if (held < expected) throw InvalidInput(voxel_claim(path, voxels, expected, held, "the file"));
+  } else if (data.find('%') == std::string::npos && data.find(' ') == std::string::npos && lower(data) != "list") {
+    const std::string raw = resolve(path, data);
+    const long long size = file_size(raw);
+    if (size < 0) throw InvalidInput(path + ": its data file " + raw + " does not exist");
+    const long double held = static_cast<long double>(size - skip);
+    if (held < expected) throw InvalidInput(voxel_claim(path, voxels, expected, held, "its data file " + raw));
+  }
+}
+
+template <typename T>
+T get(const unsigned char* p, bool swap) {
+  unsigned char b[sizeof(T)];
+  std::memcpy(b, p, sizeof(T));
+  if (swap) std::reverse(b, b + sizeof(T));
+  T v;
+  std::memcpy(&v, b, sizeof(T));
+  return v;
+}
+
+// NIfTI-1/-2 (.nii, .nii.gz; .hdr/.img pairs): pixdim, and the data size,
+// for gzip data the size of what the stream really inflates to.
+void check_nifti(const std::string& path, unsigned long long voxels, long double expected) {
+  const bool pair = ends_with(path, ".hdr") || ends_with(path, ".hdr.gz");
+  gzFile f = gzopen(path.c_str(), "rb");
+  if (!f) return;
+  unsigned char h[540];
+  const int got = gzread(f, h, sizeof h);
+  if (got < 348) {
+    gzclose(f);
+    throw InvalidInput(path + ": the NIfTI header is truncated (" + std::to_string(std::max(got, 0)) +
+                       " bytes; a NIfTI-1 header has 348)");
+  }
+  bool swap = false;
+  int version = 0;
+  if (get<std::int32_t>(h, false) == 348) version = 1;
+  else if (get<std::int32_t>(h, true) == 348) version = 1, swap = true;
+  else if (get<std::int32_t>(h, false) == 540) version = 2;
+  else if (get<std::int32_t>(h, true) == 540) version = 2, swap = true;
+  if (version == 0 || (version == 2 && got < 540)) {
+    gzclose(f);
+    return;  // ITK accepted it: leave it to ITK
+  }
+  std::vector<double> pixdim(3);
+  long double offset = 0;
+  std::size_t ndim = 3;
+  if (version == 1) {
+    ndim = static_cast<std::size_t>(get<std::int16_t>(h + 40, swap));
+    for (int d = 0; d < 3; ++d) pixdim[d] = get<float>(h + 80 + 4 * d, swap);
+    offset = get<float>(h + 108, swap);
+  } else {
+    ndim = static_cast<std::size_t>(get<std::int64_t>(h + 16, swap));
+    for (int d = 0; d < 3; ++d) pixdim[d] = get<double>(h + 112 + 8 * d, swap);
+    offset = static_cast<long double>(get<std::int64_t>(h + 168, swap));
+  }
+  check_header_spacing(path, "pixdim", pixdim, std::min<std::size_t>(ndim, 3));
+  if (expected < 0) {
+    gzclose(f);
+    return;
+  }
+  if (pair) {
+    gzclose(f);
+    std::string img = path.substr(0, path.size() - (ends_with(path, ".gz") ? 7 : 4)) + ".img";
+    const long long size = file_size(img);
+    if (size >= 0 && expected > size)
+      throw InvalidInput(voxel_claim(path, voxels, expected, size, "its data file " + img));
+    return;
+  }
+  if (!gzdirect(f)) {
+    // Count what the gzip stream inflates to (a cut stream ends early with an error).
+    long double total = got;
+    std::vector<char> buffer(1 << 20);
+    int n = 0;
+    while ((n = gzread(f, buffer.data(), static_cast<unsigned>(buffer.size()))) > 0) total += n;
+    int code = Z_OK;
+    const char* message = gzerror(f, &code);
+    const std::string error = n < 0 || (code != Z_OK && code != Z_STREAM_END) ? std::string(message ? message : "") : "";
+    gzclose(f);
+    if (total < offset + expected)
+      throw InvalidInput(voxel_claim(path, voxels, expected, std::max<long double>(0, total - offset),
+                                     "the gzip stream") + (error.empty() ? "" : " (zlib: " + error + ")"));
+    if (!error.empty()) throw InvalidInput(path + ": the gzip stream is corrupt (zlib: " + error + ")");
+    return;
+  }
+  gzclose(f);
+  const long double held = static_cast<long double>(file_size(path)) - offset;
+  if (held < expected) throw InvalidInput(voxel_claim(path, voxels, expected, std::max<long double>(0, held), "the file"));
+}
+
+// ------------------------------------------------------------- files --
+
+std::string format_name(const itk::ImageIOBase* io) {
+  const std::string n = io->GetNameOfClass();
+  if (n == "MetaImageIO") return "MetaImage";
+  if (n == "NrrdImageIO") return "NRRD";
+  if (n == "NiftiImageIO") return "NIfTI";
+  if (n == "VTKImageIO") return "VTK image";
+  if (n == "GDCMImageIO") return "DICOM file";
+  return n;
+}
+
+void check_memory(const std::string& what, const std::vector<unsigned long long>& dims, const ReadOptions& options) {
+  long double voxels = 1;
+  for (auto d : dims) voxels *= static_cast<long double>(d);
+  const long double bytes = voxels * sizeof(float);
+  if (options.memory_limit > 0 && bytes > static_cast<long double>(options.memory_limit))
+    throw InvalidInput(what + " has " + dims_text(dims) + " voxels: " + bytes_text(bytes) +
+                       " as float, more than the memory limit of " +
+                       bytes_text(static_cast<long double>(options.memory_limit)) +
+                       " (raise ReadOptions::memory_limit if this is really meant)");
+}
+
+// The header checks that must come before ITK reads the header (ITK may
+// refuse a NaN or zero spacing with a parser message, or quietly repair it).
+void check_header_first(const std::string& path) {
+  char magic[4] = {0, 0, 0, 0};
+  std::ifstream(path, std::ios::binary).read(magic, 4);
+  if (std::string(magic, 4) == "NRRD") check_nrrd(path, 0, -1);
+  else if (ends_with(path, ".mha") || ends_with(path, ".mhd")) check_metaimage(path, 0, -1);
+  else if (ends_with(path, ".nii") || ends_with(path, ".nii.gz") || ends_with(path, ".hdr") || ends_with(path, ".hdr.gz"))
+    check_nifti(path, 0, -1);
+}
+
+Image::Pointer read_file(const std::string& path, const ReadOptions& options, ImageInfo& info) {
+  check_header_first(path);
+  itk::ImageIOBase::Pointer io = itk::ImageIOFactory::CreateImageIO(path.c_str(), itk::IOFileModeEnum::ReadMode);
+  if (!io)
+    throw InvalidInput("cannot read " + path +
+                       ": not a readable image (supported: DICOM, .mha/.mhd, .nrrd/.nhdr, .nii/.nii.gz, .vtk; "
+                       "is the header corrupt?)");
+  io->SetFileName(path);
+  try {
+    io->ReadImageInformation();
+  } catch (const itk::ExceptionObject& e) {
+    throw InvalidInput("cannot read the header of " + path + " (corrupt or unsupported): " + e.GetDescription());
+  }
+  info.format = format_name(io);
+  info.pixel_type = itk::ImageIOBase::GetComponentTypeAsString(io->GetComponentType());
+  const unsigned int dims = io->GetNumberOfDimensions();
+  if (io->GetNumberOfComponents() != 1)
+    throw InvalidInput(path + " has " + std::to_string(io->GetNumberOfComponents()) +
+                       " components per pixel; gdm needs a scalar image");
+  if (dims < 3 || (dims == 3 && (io->GetDimensions(2) < 2)))
+    throw InvalidInput(path + " is a 2D image; gdm needs a 3D volume" +
+                       (info.format == "DICOM file" ? std::string(" (pass the folder of the DICOM series)") : ""));
+  for (unsigned int d = 3; d < dims; ++d)
+    if (io->GetDimensions(d) > 1)
+      throw InvalidInput(path + " is a " + std::to_string(dims) + "D image; gdm needs a 3D volume");
+
+  std::vector<unsigned long long> size;
+  unsigned long long voxels = 1;
+  for (unsigned int d = 0; d < dims; ++d) {
+    size.push_back(io->GetDimensions(d));
+    voxels *= io->GetDimensions(d);
+  }
+  const long double expected = static_cast<long double>(voxels) * io->GetComponentSize();
+  if (info.format == "MetaImage") check_metaimage(path, voxels, expected);
+  if (info.format == "NRRD") check_nrrd(path, voxels, expected);
+  if (info.format == "NIfTI") check_nifti(path, voxels, expected);
+  for (unsigned int d = 0; d < 3; ++d)
+    check_header_spacing(path, "as read by ITK", {io->GetSpacing(d)}, 1);
+  size.resize(3);
+  check_memory(path, size, options);
+
+  auto reader = itk::ImageFileReader<Image>::New();
+  reader->SetImageIO(io);
+  reader->SetFileName(path);
+  try {
+    reader->Update();
+  } catch (const itk::ExceptionObject& e) {
+    throw InvalidInput("cannot read " + path + ": " + e.GetDescription());
+  }
+  Image::Pointer image = reader->GetOutput();
+  image->DisconnectPipeline();
+  return image;
+}
+
+// ------------------------------------------------------ DICOM series --
+
+bool parse_vector(const std::string& value, std::size_t n, double* out) {
+  std::string v = value;
+  for (char& c : v)
+    if (c == '\\') c = ' ';
+  const std::vector<double> numbers = parse_numbers(v);
+  if (numbers.size() != n) return false;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!std::isfinite(numbers[i])) return false;
+    out[i] = numbers[i];
+  }
+  return true;
+}
+
+std::string base_name(const std::string& path) {
+  const auto slash = path.find_last_of('/');
+  return slash == std::string::npos ? path : path.substr(slash + 1);
+}
+
+std::string point_text(const double p[3]) {
+  return "(" + number(p[0]) + ", " + number(p[1]) + ", " + number(p[2]) + ")";
+}
+
+struct SeriesGeometry {
+  bool positions = false;   // every slice has 0020|0032 and 0020|0037
+  double step = 0.0;        // median step along the normal, > 0
+  double normal[3] = {0, 0, 1};
+  double sign = 1.0;        // +1 when the file order runs along +normal
+};
+
+// The slice geometry of `files` (in the order ITK will stack them), checked.
+SeriesGeometry check_series_geometry(const std::string& folder, const std::string& uid,
+                                     const std::vector<std::string>& files, ImageInfo& info) {
+  const std::string series = "the DICOM series " + uid + " in " + folder;
+  const gdcm::Tag position_tag(0x0020, 0x0032), orientation_tag(0x0020, 0x0037), sop_tag(0x0008, 0x0018);
+  gdcm::Scanner scanner;
+  scanner.AddTag(position_tag);
+  scanner.AddTag(orientation_tag);
+  scanner.AddTag(sop_tag);
+  if (!scanner.Scan(files)) throw InvalidInput("cannot scan the headers of " + series);
+  auto value = [&](const std::string& file, const gdcm::Tag& tag) -> std::string {
+    const char* v = scanner.GetValue(file.c_str(), tag);
+    return v ? trim(v) : std::string();
+  };
+
+  // The same slice twice (a copied file).
+  std::map<std::string, std::string> seen;
+  for (const auto& f : files) {
+    const std::string sop = value(f, sop_tag);
+    if (sop.empty()) continue;
+    auto [at, fresh] = seen.emplace(sop, f);
+    if (!fresh)
+      throw InvalidInput(series + " holds the same slice twice: " + base_name(at->second) + " and " + base_name(f) +
+                         " have the same SOP instance UID " + sop + " (a duplicated file)");
+  }
+
+  SeriesGeometry g;
+  const std::size_t n = files.size();
+  std::vector<std::array<double, 3>> p(n);
+  double row_col[6] = {0, 0, 0, 0, 0, 0};
+  for (std::size_t k = 0; k < n; ++k) {
+    double o[6];
+    if (!parse_vector(value(files[k], position_tag), 3, p[k].data()) ||
+        !parse_vector(value(files[k], orientation_tag), 6, o)) {
+      info.warnings.push_back(series + " has no per-slice positions (0020|0032) and orientations (0020|0037); "
+                              "the slice spacing may be wrong");
+      return g;
+    }
+    if (k == 0) {
+      std::copy(o, o + 6, row_col);
+    } else {
+      for (int i = 0; i < 6; ++i)
+        if (std::abs(o[i] - row_col[i]) > 1e-4)
+          throw InvalidInput(series + " mixes slice orientations (0020|0037): " + base_name(files[0]) + " and " +
+                             base_name(files[k]) + " differ; gdm needs parallel slices");
+    }
+  }
+  g.positions = true;
+  const double* r = row_col;
+  const double* c = row_col + 3;
+  double nrm[3] = {r[1] * c[2] - r[2] * c[1], r[2] * c[0] - r[0] * c[2], r[0] * c[1] - r[1] * c[0]};
+  const double len = std::sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
+  if (!(len > 0.5))
+    throw InvalidInput(series + " has a degenerate slice orientation (0020|0037) in " + base_name(files[0]));
+  for (double& v : nrm) v /= len;
+  std::copy(nrm, nrm + 3, g.normal);
+
+  // Distances along the normal; ITK stacks the files in this order.
+  std::vector<double> along(n);
+  for (std::size_t k = 0; k < n; ++k)
+    along[k] = (p[k][0] - p[0][0]) * nrm[0] + (p[k][1] - p[0][1]) * nrm[1] + (p[k][2] - p[0][2]) * nrm[2];
+  g.sign = along[n - 1] >= 0.0 ? 1.0 : -1.0;
+  std::vector<double> steps(n - 1);
+  for (std::size_t k = 0; k + 1 < n; ++k) steps[k] = g.sign * (along[k + 1] - along[k]);
+  std::vector<double> sorted = steps;
+  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+  const double median = sorted[sorted.size() / 2];
+  const double tiny = std::max(1e-4, 1e-3 * std::abs(median));
+  for (std::size_t k = 0; k + 1 < n; ++k) {
+    if (std::abs(steps[k]) <= tiny)
+      throw InvalidInput(series + " has two slices at the same position " + point_text(p[k + 1].data()) + ": " +
+                         base_name(files[k]) + " and " + base_name(files[k + 1]) + " (a duplicated slice)");
+    if (steps[k] < 0.0)
+      throw InvalidInput(series + " is not ordered along the slice normal at " + base_name(files[k + 1]));
+  }
+  if (!(median > 0.0)) throw InvalidInput(series + " has no slice spacing (every slice at the same position)");
+  for (std::size_t k = 0; k + 1 < n; ++k) {
+    if (steps[k] > 1.5 * median)
+      throw InvalidInput(series + " has missing slices: a gap of " + number(steps[k]) + " mm between " +
+                         base_name(files[k]) + " and " + base_name(files[k + 1]) + ", " +
+                         number(steps[k] / median) + " times the median slice step of " + number(median) + " mm");
+  }
+  for (std::size_t k = 0; k + 1 < n; ++k) {
+    if (std::abs(steps[k] - median) > 0.01 * median)
+      throw InvalidInput(series + " has non-uniform slice spacing: the step between " + base_name(files[k]) +
+                         " and " + base_name(files[k + 1]) + " is " + number(steps[k]) +
+                         " mm, the median step " + number(median) + " mm (more than 1% apart)");
+  }
+  g.step = median;
+
+  // Gantry tilt: the slice positions leave the line along the normal.
+  double lateral = 0.0;
+  for (std::size_t k = 1; k < n; ++k) {
+    double off2 = 0.0;
+    for (int i = 0; i < 3; ++i) {
+      const double o = p[k][i] - p[0][i] - along[k] * nrm[i];
+      off2 += o * o;
+    }
+    lateral = std::max(lateral, std::sqrt(off2));
+  }
+  const double extent = std::abs(along[n - 1]);
+  const double tilt = std::atan2(lateral, extent) * 180.0 / 3.14159265358979323846;
+  if (lateral > 1e-3) {
+    std::ostringstream s;
+    s << series << " has a gantry tilt of " << number(tilt) << " degrees (the slice positions leave the slice normal "
+      << "by up to " << number(lateral) << " mm)";
+    // Refused when the stacked grid would be sheared by more than a tenth of a
+    // degree: the volume would be distorted.
+    if (tilt > 0.1)
+      throw InvalidInput(s.str() + "; gdm needs slices stacked along their normal (resample the series first)");
+    info.warnings.push_back(s.str() + "; ignored");
+  }
+  return g;
+}
+
+Image::Pointer read_dicom_series(const std::string& folder, const ReadOptions& options, ImageInfo& info) {
+  auto names = itk::GDCMSeriesFileNames::New();
+  names->SetUseSeriesDetails(true);
+  // A folder without DICOM is reported below; ITK's own warning would only repeat it.
+  const bool warnings = itk::Object::GetGlobalWarningDisplay();
+  itk::Object::SetGlobalWarningDisplay(false);
+  names->SetDirectory(folder);
+  const std::vector<std::string> uids = names->GetSeriesUIDs();
+  itk::Object::SetGlobalWarningDisplay(warnings);
+  if (uids.empty()) throw InvalidInput("no DICOM series in the folder " + folder);
+  info.series_count = uids.size();
+
+  std::string chosen;
+  const std::string& wanted = options.series_uid;
+  if (!wanted.empty()) {
+    for (const auto& uid : uids)
+      if (uid == wanted || uid.rfind(wanted + ".", 0) == 0 || uid.rfind(wanted, 0) == 0) chosen = uid;
+    if (chosen.empty()) {
+      std::string list;
+      for (const auto& uid : uids) list += "\n  " + uid;
+      throw InvalidOption("no such series " + wanted + " in " + folder + "; it holds:" + list);
+    }
+  } else {
+    std::size_t most = 0;
+    for (const auto& uid : uids) {
+      const std::size_t n = names->GetFileNames(uid).size();
+      if (n > most) {
+        most = n;
+        chosen = uid;
+      }
+    }
+  }
+  const std::vector<std::string> files = names->GetFileNames(chosen);
+  info.series_uid = chosen;
+  info.slices = files.size();
+  info.format = "DICOM series";
+  if (files.size() < 2)
+    throw InvalidInput("the DICOM series " + chosen + " in " + folder + " has " + std::to_string(files.size()) +
+                       " slice; gdm needs a 3D volume");
+
+  const SeriesGeometry geometry = check_series_geometry(folder, chosen, files, info);
+
+  auto io = itk::GDCMImageIO::New();
+  io->SetFileName(files.front());
+  try {
+    io->ReadImageInformation();
+  } catch (const itk::ExceptionObject& e) {
+    throw InvalidInput("cannot read the DICOM file " + files.front() + ": " + e.GetDescription());
+  }
+  check_memory("the DICOM series " + chosen + " in " + folder,
+               {io->GetDimensions(0), io->GetNumberOfDimensions() > 1 ? io->GetDimensions(1) : 1, files.size()},
+               options);
+
+  auto reader = itk::ImageSeriesReader<Image>::New();
+  reader->SetImageIO(io);
+  reader->SetFileNames(files);
+  try {
+    reader->Update();
+  } catch (const itk::ExceptionObject& e) {
+    throw InvalidInput("cannot read the DICOM series " + chosen + " in " + folder + ": " + e.GetDescription());
+  }
+  info.pixel_type = itk::ImageIOBase::GetComponentTypeAsString(io->GetInternalComponentType());
+  Image::Pointer image = reader->GetOutput();
+  image->DisconnectPipeline();
+  if (geometry.positions) {
+    // The slice spacing from the positions (not SliceThickness), the third
+    // axis along the normal in file order.
+    auto spacing = image->GetSpacing();
+    spacing[2] = geometry.step;
+    image->SetSpacing(spacing);
+    auto direction = image->GetDirection();
+    for (int i = 0; i < 3; ++i) direction[i][2] = geometry.sign * geometry.normal[i];
+    image->SetDirection(direction);
+  } else {
+    info.warnings.back() += " (" + number(image->GetSpacing()[2]) + " mm)";
+  }
+  return image;
+}
+
+}  // namespace
+
+Volume read_volume(const std::string& path, const ReadOptions& options, ImageInfo* out) {
+  ImageInfo local;
+  ImageInfo& info = out ? *out : local;
+  info = ImageInfo{};
+  info.path = path;
+  if (path.empty()) throw InvalidInput("no input file given");
+  struct stat s {};
+  if (::stat(path.c_str(), &s) != 0) throw InvalidInput("no such file or folder: " + path);
+  Image::Pointer image;
+  if (S_ISDIR(s.st_mode)) {
+    image = read_dicom_series(path, options, info);
+  } else if (!S_ISREG(s.st_mode)) {
+    const char* kind = S_ISFIFO(s.st_mode) ? "a FIFO (named pipe)"
+                       : S_ISCHR(s.st_mode) ? "a character device"
+                       : S_ISBLK(s.st_mode) ? "a block device"
+                       : S_ISSOCK(s.st_mode) ? "a socket"
+                                             : "not a regular file";
+    throw InvalidInput(path + " is " + std::string(kind) + ", not a regular file; gdm reads volume files and "
+                       "DICOM folders");
+  } else {
+    image = read_file(path, options, info);
+  }
+
+  const auto region = image->GetBufferedRegion();
+  const std::size_t count = region.GetNumberOfPixels();
+  for (unsigned int d = 0; d < 3; ++d) {
+    info.dims[d] = region.GetSize()[d];
+    info.spacing[d] = image->GetSpacing()[d];
+    info.origin[d] = image->GetOrigin()[d];
+    for (unsigned int c = 0; c < 3; ++c) info.direction[3 * d + c] = image->GetDirection()[d][c];
+  }
+  for (unsigned int d = 0; d < 3; ++d) {
+    if (info.dims[d] < 2)
+      throw InvalidInput(path + " has only " + std::to_string(info.dims[d]) + " voxel along axis " +
+                         std::to_string(d) + "; gdm needs a 3D volume");
+    if (!(info.spacing[d] > 0.0) || !std::isfinite(info.spacing[d]))
+      throw InvalidInput(path + " has an invalid spacing along axis " + std::to_string(d) + " (" +
+                         number(info.spacing[d]) + ")");
+  }
+  const float* values = image->GetBufferPointer();
+  std::size_t bad = 0, nan = 0;
+  float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+  for (std::size_t i = 0; i < count; ++i) {
+    const float v = values[i];
+    if (!std::isfinite(v)) {
+      ++bad;
+      nan += std::isnan(v) ? 1 : 0;
+      continue;
+    }
+    lo = std::min(lo, v);
+    hi = std::max(hi, v);
+  }
+  if (bad > 0)
+    throw InvalidInput(path + " holds " + std::to_string(bad) + " non-finite voxels (" + std::to_string(nan) +
+                       " NaN, " + std::to_string(bad - nan) + " infinite) of " + std::to_string(count) +
+                       "; gdm needs finite values");
+  info.minimum = lo;
+  info.maximum = hi;
+  if (lo == hi)
+    throw InvalidVolume(path + " is constant (every voxel is " + std::to_string(lo) + "): nothing to segment");
+
+  std::vector<float> data(values, values + count);
+  image = nullptr;  // free ITK's copy before the volume checks its values
+  Vec3 spacing, origin;
+  Eigen::Matrix3d direction;
+  for (int i = 0; i < 3; ++i) {
+    spacing[i] = info.spacing[i];
+    origin[i] = info.origin[i];
+    for (int j = 0; j < 3; ++j) direction(i, j) = info.direction[3 * i + j];
+  }
+  return Volume({static_cast<int>(info.dims[0]), static_cast<int>(info.dims[1]), static_cast<int>(info.dims[2])},
+                std::move(data), spacing, origin, direction);
+}
+
+}  // namespace gdm

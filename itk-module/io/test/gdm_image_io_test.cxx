@@ -1,0 +1,571 @@
+// Tests of gdm::read_volume (gdm/image_io.h). Every hostile input is built
+// here, in a temporary folder: crafted headers, truncated files, DICOM series
+// with a duplicated, missing or displaced slice, NaN voxels, a FIFO.
+// Each hostile test also prints what ITK 5.2 does with the same file on its
+// own ("ITK alone: ..."), the behaviour the checks of read_volume replace.
+#include "itkGDCMImageIO.h"
+#include "itkImage.h"
+#include "itkImageFileReader.h"
+#include "itkImageFileWriter.h"
+#include "itkGDCMSeriesFileNames.h"
+#include "itkImageSeriesReader.h"
+#include "itkImageSeriesWriter.h"
+#include "itkMetaDataObject.h"
+#include "itkSymmetricEigenAnalysis.h"  // ITK's Eigen before the system one
+
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
+#include <zlib.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <functional>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <limits>
+#include <sstream>
+
+#include "gdm/image_io.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using ShortImage = itk::Image<short, 3>;
+using FloatImage = itk::Image<float, 3>;
+
+fs::path work_root() { return fs::temp_directory_path() / ("gdm_image_io_" + std::to_string(::getpid())); }
+
+// Removes this process's temporary folder when the tests end.
+struct RemoveWorkRoot : ::testing::Environment {
+  void TearDown() override {
+    std::error_code ignored;
+    fs::remove_all(work_root(), ignored);
+  }
+};
+const auto* const remove_work_root = ::testing::AddGlobalTestEnvironment(new RemoveWorkRoot);
+
+fs::path work_dir() {
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  fs::path dir = work_root() / (std::string(info->test_suite_name()) + "." + info->name());
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+// The small test volume: 12 x 10 x 8 shorts, every voxel different,
+// anisotropic spacing, an origin and a rotated direction.
+ShortImage::Pointer small_volume(bool rotated = true) {
+  auto image = ShortImage::New();
+  image->SetRegions(ShortImage::RegionType(ShortImage::SizeType{{12, 10, 8}}));
+  image->Allocate();
+  short* p = image->GetBufferPointer();
+  for (int i = 0; i < 12 * 10 * 8; ++i) p[i] = static_cast<short>((i * 37) % 1000 - 300);
+  ShortImage::SpacingType spacing;
+  spacing[0] = 0.75;
+  spacing[1] = 0.5;
+  spacing[2] = 1.25;
+  image->SetSpacing(spacing);
+  ShortImage::PointType origin;
+  origin[0] = 10.5;
+  origin[1] = -20.25;
+  origin[2] = 30.0;
+  image->SetOrigin(origin);
+  ShortImage::DirectionType d;
+  d.SetIdentity();
+  if (rotated) {  // 90 degrees about z
+    d[0][0] = 0;
+    d[0][1] = -1;
+    d[1][0] = 1;
+    d[1][1] = 0;
+  }
+  image->SetDirection(d);
+  return image;
+}
+
+template <typename TImage>
+void write(const TImage* image, const fs::path& path, bool compress = false) {
+  auto writer = itk::ImageFileWriter<TImage>::New();
+  writer->SetInput(image);
+  writer->SetFileName(path.string());
+  writer->SetUseCompression(compress);
+  writer->Update();
+}
+
+// A DICOM series of `image` with per-slice position tags. `position(k)` may
+// displace slice k; files are s-001.dcm, s-002.dcm, ...
+std::vector<fs::path> write_dicom_series(const ShortImage* image, const fs::path& folder,
+                                         const std::function<void(int, ShortImage::PointType&)>& position = {}) {
+  fs::create_directories(folder);
+  using Slice = itk::Image<short, 2>;
+  auto io = itk::GDCMImageIO::New();
+  io->KeepOriginalUIDOn();
+  auto writer = itk::ImageSeriesWriter<ShortImage, Slice>::New();
+  const auto size = image->GetLargestPossibleRegion().GetSize();
+  const auto spacing = image->GetSpacing();
+  const auto& dir = image->GetDirection();
+  const std::string root = "1.2.826.0.1.3680043.9.7433.2";
+  std::vector<std::unique_ptr<itk::MetaDataDictionary>> owned;
+  std::vector<itk::MetaDataDictionary*> dictionaries;
+  std::vector<std::string> names;
+  std::vector<fs::path> paths;
+  std::ostringstream orientation;
+  orientation.precision(10);
+  orientation << dir[0][0] << "\\" << dir[1][0] << "\\" << dir[2][0] << "\\" << dir[0][1] << "\\" << dir[1][1]
+              << "\\" << dir[2][1];
+  for (unsigned int k = 0; k < size[2]; ++k) {
+    owned.push_back(std::make_unique<itk::MetaDataDictionary>());
+    auto& d = *owned.back();
+    ShortImage::PointType p;
+    image->TransformIndexToPhysicalPoint({{0, 0, static_cast<long>(k)}}, p);
+    if (position) position(static_cast<int>(k), p);
+    std::ostringstream pos, pixel_spacing;
+    pos.precision(10);
+    pos << p[0] << "\\" << p[1] << "\\" << p[2];
+    pixel_spacing << spacing[1] << "\\" << spacing[0];
+    itk::EncapsulateMetaData<std::string>(d, "0008|0060", "CT");
+    itk::EncapsulateMetaData<std::string>(d, "0028|0004", "MONOCHROME2");
+    itk::EncapsulateMetaData<std::string>(d, "0008|0016", "1.2.840.10008.5.1.4.1.1.2");
+    itk::EncapsulateMetaData<std::string>(d, "0008|0018", root + ".3." + std::to_string(k + 1));
+    itk::EncapsulateMetaData<std::string>(d, "0020|000d", root + ".1");
+    itk::EncapsulateMetaData<std::string>(d, "0020|000e", root + ".2");
+    itk::EncapsulateMetaData<std::string>(d, "0020|0052", root + ".4");
+    itk::EncapsulateMetaData<std::string>(d, "0020|0013", std::to_string(k + 1));
+    itk::EncapsulateMetaData<std::string>(d, "0020|0032", pos.str());
+    itk::EncapsulateMetaData<std::string>(d, "0020|0037", orientation.str());
+    itk::EncapsulateMetaData<std::string>(d, "0028|0030", pixel_spacing.str());
+    itk::EncapsulateMetaData<std::string>(d, "0018|0050", "7.5");  // SliceThickness: not the spacing
+    itk::EncapsulateMetaData<std::string>(d, "0028|1052", "0");
+    itk::EncapsulateMetaData<std::string>(d, "0028|1053", "1");
+    dictionaries.push_back(&d);
+    char name[32];
+    std::snprintf(name, sizeof name, "s-%03u.dcm", k + 1);
+    paths.push_back(folder / name);
+    names.push_back(paths.back().string());
+  }
+  writer->SetInput(image);
+  writer->SetImageIO(io);
+  writer->SetFileNames(names);
+  writer->SetMetaDataDictionaryArray(&dictionaries);
+  writer->Update();
+  return paths;
+}
+
+// What ITK 5.2 alone makes of `path` (ImageFileReader<float>, no checks).
+std::string itk_alone(const fs::path& path) {
+  std::ostringstream s;
+  auto reader = itk::ImageFileReader<FloatImage>::New();
+  reader->SetFileName(path.string());
+  const auto start = std::chrono::steady_clock::now();
+  try {
+    reader->Update();
+    const auto* image = reader->GetOutput();
+    std::size_t non_finite = 0, zeros = 0;
+    const std::size_t n = image->GetBufferedRegion().GetNumberOfPixels();
+    for (std::size_t i = 0; i < n; ++i) {
+      const float v = image->GetBufferPointer()[i];
+      non_finite += std::isfinite(v) ? 0 : 1;
+      zeros += v == 0.0f ? 1 : 0;
+    }
+    s << "read without error: size " << image->GetBufferedRegion().GetSize() << ", spacing " << image->GetSpacing()
+      << ", " << zeros << " zero and " << non_finite << " non-finite voxels of " << n;
+  } catch (const itk::ExceptionObject& e) {
+    s << "exception: " << e.GetDescription();
+  } catch (const std::exception& e) {
+    s << "std exception: " << e.what();
+  }
+  s << " (" << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() << " s)";
+  std::cout << "ITK alone on " << path.filename() << ": " << s.str() << std::endl;
+  return s.str();
+}
+
+// What ITK 5.2 alone makes of a DICOM folder (GDCMSeriesFileNames, the first
+// series, ImageSeriesReader<float>).
+std::string itk_alone_series(const fs::path& folder) {
+  std::ostringstream s;
+  try {
+    auto names = itk::GDCMSeriesFileNames::New();
+    names->SetUseSeriesDetails(true);
+    names->SetDirectory(folder.string());
+    const auto files = names->GetFileNames(names->GetSeriesUIDs().front());
+    auto reader = itk::ImageSeriesReader<FloatImage>::New();
+    reader->SetImageIO(itk::GDCMImageIO::New());
+    reader->SetFileNames(files);
+    reader->Update();
+    s << "read without error: " << files.size() << " files, size " << reader->GetOutput()->GetBufferedRegion().GetSize()
+      << ", spacing " << reader->GetOutput()->GetSpacing();
+  } catch (const itk::ExceptionObject& e) {
+    s << "exception: " << e.GetDescription();
+  }
+  std::cout << "ITK alone on the series in " << folder.filename() << ": " << s.str() << std::endl;
+  return s.str();
+}
+
+// read_volume must throw E with every one of `parts` in its message.
+template <typename E = gdm::InvalidInput>
+void expect_refused(const fs::path& path, const std::vector<std::string>& parts, const gdm::ReadOptions& options = {}) {
+  try {
+    gdm::read_volume(path.string(), options);
+    ADD_FAILURE() << path << " was read; expected a refusal naming: " << parts.front();
+  } catch (const E& e) {
+    const std::string m = e.what();
+    std::cout << "read_volume on " << path.filename() << ": " << m << std::endl;
+    for (const auto& part : parts) EXPECT_NE(m.find(part), std::string::npos) << "message: " << m;
+    EXPECT_NE(m.find(path.filename().string()), std::string::npos) << "the message names no file: " << m;
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << path << ": wrong exception type: " << e.what();
+  }
+}
+
+void write_text(const fs::path& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; }
+
+std::string slurp(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+std::string mha_header(const std::string& dims, const std::string& spacing, const std::string& type,
+                       const std::string& data = "LOCAL") {
+  return "ObjectType = Image\nNDims = 3\nBinaryData = True\nBinaryDataByteOrderMSB = False\nCompressedData = False\n"
+         "DimSize = " + dims + "\nElementSpacing = " + spacing + "\nElementType = " + type +
+         "\nElementDataFile = " + data + "\n";
+}
+
+void expect_same(const gdm::Volume& v, const ShortImage* ref, const std::string& what, bool direction = true) {
+  const auto size = ref->GetLargestPossibleRegion().GetSize();
+  ASSERT_EQ(v.dims()[0], static_cast<int>(size[0])) << what;
+  ASSERT_EQ(v.dims()[1], static_cast<int>(size[1])) << what;
+  ASSERT_EQ(v.dims()[2], static_cast<int>(size[2])) << what;
+  for (int d = 0; d < 3; ++d) {
+    EXPECT_NEAR(v.spacing()[d], ref->GetSpacing()[d], 1e-5) << what << " spacing " << d;
+    EXPECT_NEAR(v.origin()[d], ref->GetOrigin()[d], 1e-4) << what << " origin " << d;
+    if (direction)
+      for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(v.direction()(d, c), ref->GetDirection()[d][c], 1e-5) << what << " direction " << d << c;
+  }
+  const short* p = ref->GetBufferPointer();
+  std::size_t wrong = 0;
+  for (std::size_t i = 0; i < v.values().size(); ++i) wrong += v.values()[i] == static_cast<float>(p[i]) ? 0 : 1;
+  EXPECT_EQ(wrong, 0u) << what << ": voxel values differ";
+}
+
+}  // namespace
+
+// ------------------------------------------------------------- formats --
+
+TEST(Formats, EveryFormatReadsTheSameVolume) {
+  const fs::path dir = work_dir();
+  const auto image = small_volume();
+  write(image.GetPointer(), dir / "v.mha");
+  write(image.GetPointer(), dir / "v.mhd");
+  write(image.GetPointer(), dir / "v.nrrd");
+  write(image.GetPointer(), dir / "v.nii");
+  write(image.GetPointer(), dir / "v.nii.gz");
+  write_dicom_series(image.GetPointer(), dir / "dicom");
+  const auto axis_aligned = small_volume(false);
+  write(axis_aligned.GetPointer(), dir / "v.vtk");  // legacy VTK has no direction
+
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {"v.mha", "MetaImage"}, {"v.mhd", "MetaImage"}, {"v.nrrd", "NRRD"}, {"v.nii", "NIfTI"},
+      {"v.nii.gz", "NIfTI"},  {"dicom", "DICOM series"}, {"v.vtk", "VTK image"}};
+  for (const auto& [name, format] : cases) {
+    gdm::ImageInfo info;
+    gdm::Volume v;
+    try {
+      v = gdm::read_volume((dir / name).string(), {}, &info);
+    } catch (const std::exception& e) {
+      ADD_FAILURE() << name << ": " << e.what();
+      continue;
+    }
+    EXPECT_EQ(info.format, format);
+    EXPECT_TRUE(info.warnings.empty()) << name << ": " << (info.warnings.empty() ? "" : info.warnings.front());
+    expect_same(v, name == "v.vtk" ? axis_aligned.GetPointer() : image.GetPointer(), name);
+    EXPECT_EQ(info.dims[2], 8u);
+    EXPECT_EQ(info.minimum, -300);
+    EXPECT_EQ(info.maximum, 699);
+    EXPECT_EQ(info.pixel_type, "short") << name;
+    if (name == "dicom") {
+      EXPECT_EQ(info.slices, 8u);
+      EXPECT_EQ(info.series_count, 1u);
+      EXPECT_EQ(info.series_uid.rfind("1.2.826.0.1.3680043.9.7433.2.2", 0), 0u) << info.series_uid;
+    }
+  }
+}
+
+TEST(Formats, MissingFileAndUnknownSeries) {
+  const fs::path dir = work_dir();
+  expect_refused(dir / "none.mha", {"no such file or folder"});
+  write_dicom_series(small_volume().GetPointer(), dir / "dicom");
+  gdm::ReadOptions options;
+  options.series_uid = "1.2.3.4";
+  expect_refused<gdm::InvalidOption>(dir / "dicom", {"no such series 1.2.3.4"}, options);
+  options.series_uid = "1.2.826.0.1.3680043.9.7433.2.2";  // a prefix of the UID GDCM reports
+  EXPECT_NO_THROW(gdm::read_volume((dir / "dicom").string(), options));
+}
+
+TEST(Formats, TwoDimensionalAndConstantImagesAreRefused) {
+  const fs::path dir = work_dir();
+  using Image2 = itk::Image<unsigned char, 2>;
+  auto slice = Image2::New();
+  slice->SetRegions(Image2::RegionType(Image2::SizeType{{16, 16}}));
+  slice->Allocate();
+  slice->FillBuffer(7);
+  write(slice.GetPointer(), dir / "slice.mha");
+  expect_refused(dir / "slice.mha", {"is a 2D image; gdm needs a 3D volume"});
+  auto flat = small_volume();
+  flat->FillBuffer(5);
+  write(flat.GetPointer(), dir / "flat.mha");
+  expect_refused<gdm::InvalidVolume>(dir / "flat.mha", {"is constant"});
+}
+
+// ---------------------------------------- a. headers claiming too much --
+
+TEST(Hostile, MetaImageHeaderClaimsFarMoreVoxels) {
+  const fs::path dir = work_dir();
+  const std::string voxels(32 * 32 * 32, '\x07');
+  write_text(dir / "liar.mha", mha_header("1024 1024 1024", "1 1 1", "MET_UCHAR") + voxels);
+  write_text(dir / "liar.mhd", mha_header("1024 1024 1024", "1 1 1", "MET_UCHAR", "liar.raw"));
+  write_text(dir / "liar.raw", voxels);
+  gdm::ReadOptions unlimited;
+  unlimited.memory_limit = 0;  // the size check, not the memory limit, must refuse
+  const auto start = std::chrono::steady_clock::now();
+  expect_refused(dir / "liar.mha", {"header claims 1073741824 voxels", "but the file holds 32768 bytes"}, unlimited);
+  expect_refused(dir / "liar.mhd", {"header claims 1073741824 voxels", "its data file", "liar.raw"}, unlimited);
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 2.0)
+      << "refused only after a large allocation";
+}
+
+TEST(Hostile, MemoryLimitRefusesBeforeReading) {
+  const fs::path dir = work_dir();
+  write(small_volume().GetPointer(), dir / "v.mha");
+  gdm::ReadOptions small;
+  small.memory_limit = 1000;  // bytes; the volume is 960 voxels = 3840 bytes as float
+  expect_refused(dir / "v.mha", {"12 x 10 x 8 voxels", "more than the memory limit"}, small);
+  write_dicom_series(small_volume().GetPointer(), dir / "dicom");
+  expect_refused(dir / "dicom", {"12 x 10 x 8 voxels", "more than the memory limit"}, small);
+  small.memory_limit = 4000;
+  EXPECT_NO_THROW(gdm::read_volume((dir / "v.mha").string(), small));
+}
+
+// ------------------------------------------------------ b. truncated --
+
+TEST(Hostile, MetaImageHoldingAThirdOfItsVoxels) {
+  const fs::path dir = work_dir();
+  write_text(dir / "third.mha", mha_header("30 30 30", "1 1 1", "MET_SHORT") + std::string(30 * 30 * 30 * 2 / 3, '\x01'));
+  itk_alone(dir / "third.mha");
+  expect_refused(dir / "third.mha", {"header claims 27000 voxels", "but the file holds"});
+}
+
+TEST(Hostile, NiftiGzCutInHalf) {
+  const fs::path dir = work_dir();
+  write(small_volume().GetPointer(), dir / "whole.nii.gz");
+  const std::string bytes = slurp(dir / "whole.nii.gz");
+  write_text(dir / "half.nii.gz", bytes.substr(0, bytes.size() / 2));
+  itk_alone(dir / "half.nii.gz");
+  expect_refused(dir / "half.nii.gz", {"header claims 960 voxels", "but the gzip stream holds"});
+}
+
+TEST(Hostile, NiftiGzWithTheHeaderOnly) {
+  const fs::path dir = work_dir();
+  write(small_volume().GetPointer(), dir / "whole.nii");
+  const std::string header = slurp(dir / "whole.nii").substr(0, 352);
+  gzFile f = gzopen((dir / "header-only.nii.gz").string().c_str(), "wb");
+  ASSERT_NE(f, nullptr);
+  gzwrite(f, header.data(), static_cast<unsigned>(header.size()));
+  gzclose(f);
+  itk_alone(dir / "header-only.nii.gz");
+  expect_refused(dir / "header-only.nii.gz", {"header claims 960 voxels", "but the gzip stream holds 0 bytes"});
+  // The uncompressed file cut after its header, too.
+  write_text(dir / "header-only.nii", header);
+  itk_alone(dir / "header-only.nii");
+  expect_refused(dir / "header-only.nii", {"header claims 960 voxels", "but the file holds 0 bytes"});
+}
+
+TEST(Hostile, NrrdHoldingHalfItsVoxels) {
+  const fs::path dir = work_dir();
+  write_text(dir / "half.nrrd", "NRRD0004\ntype: short\ndimension: 3\nsizes: 20 20 20\nspacings: 1 1 1\n"
+                                "endian: little\nencoding: raw\n\n" + std::string(20 * 20 * 20, '\x02'));
+  itk_alone(dir / "half.nrrd");
+  expect_refused(dir / "half.nrrd", {"header claims 8000 voxels", "but the file holds"});
+}
+
+// ------------------------------------------------- c. DICOM geometry --
+
+TEST(Dicom, IntactSeriesSpacingComesFromThePositions) {
+  const fs::path dir = work_dir();
+  const auto image = small_volume();
+  write_dicom_series(image.GetPointer(), dir / "dicom");
+  gdm::ImageInfo info;
+  const gdm::Volume v = gdm::read_volume((dir / "dicom").string(), {}, &info);
+  expect_same(v, image.GetPointer(), "dicom");
+  EXPECT_NEAR(info.spacing[2], 1.25, 1e-6) << "SliceThickness is 7.5, the positions 1.25 apart";
+}
+
+TEST(Dicom, DuplicatedFileIsRefused) {
+  const fs::path dir = work_dir();
+  const auto files = write_dicom_series(small_volume().GetPointer(), dir / "dicom");
+  fs::copy_file(files[3], dir / "dicom" / "copy-of-s-004.dcm");
+  itk_alone_series(dir / "dicom");
+  expect_refused(dir / "dicom", {"the same slice twice", "s-004.dcm", "copy-of-s-004.dcm", "duplicated file"});
+}
+
+TEST(Dicom, DuplicatedPositionIsRefused) {
+  const fs::path dir = work_dir();
+  const auto image = small_volume();
+  write_dicom_series(image.GetPointer(), dir / "dicom", [&](int k, ShortImage::PointType& p) {
+    if (k == 5) image->TransformIndexToPhysicalPoint({{0, 0, 4}}, p);
+  });
+  itk_alone_series(dir / "dicom");
+  expect_refused(dir / "dicom", {"two slices at the same position", "duplicated slice"});
+}
+
+TEST(Dicom, MissingSliceIsRefused) {
+  const fs::path dir = work_dir();
+  const auto files = write_dicom_series(small_volume().GetPointer(), dir / "dicom");
+  fs::remove(files[4]);
+  itk_alone_series(dir / "dicom");
+  expect_refused(dir / "dicom", {"missing slices", "a gap of 2.5 mm", "s-004.dcm", "s-006.dcm"});
+}
+
+TEST(Dicom, UnevenSpacingIsRefused) {
+  const fs::path dir = work_dir();
+  const auto image = small_volume();
+  write_dicom_series(image.GetPointer(), dir / "dicom", [&](int k, ShortImage::PointType& p) {
+    if (k >= 4) p[2] += 0.3;  // the step between slices 3 and 4: 1.55 mm instead of 1.25
+  });
+  itk_alone_series(dir / "dicom");
+  expect_refused(dir / "dicom", {"non-uniform slice spacing", "1.55 mm", "median step 1.25 mm"});
+}
+
+TEST(Dicom, GantryTiltIsRefused) {
+  const fs::path dir = work_dir();
+  const auto image = small_volume();
+  write_dicom_series(image.GetPointer(), dir / "dicom", [&](int k, ShortImage::PointType& p) {
+    p[1] += 0.4 * k;  // along y: about 17.7 degrees
+  });
+  itk_alone_series(dir / "dicom");
+  expect_refused(dir / "dicom", {"gantry tilt of 17.7", "degrees", "resample the series"});
+}
+
+TEST(Dicom, TinyTiltIsReported) {
+  const fs::path dir = work_dir();
+  const auto image = small_volume();
+  write_dicom_series(image.GetPointer(), dir / "dicom", [&](int k, ShortImage::PointType& p) {
+    p[1] += 0.0005 * k;  // 0.0035 mm over 8.75 mm: 0.023 degrees
+  });
+  gdm::ImageInfo info;
+  ASSERT_NO_THROW(gdm::read_volume((dir / "dicom").string(), {}, &info));
+  ASSERT_EQ(info.warnings.size(), 1u);
+  EXPECT_NE(info.warnings[0].find("gantry tilt of 0.0229"), std::string::npos) << info.warnings[0];
+}
+
+TEST(Dicom, RealCtPhantomSeries) {
+  const fs::path series = fs::path(GDM_SHARED_DIR) / "data" / "ct-phantom-dicom" / "series";
+  if (!fs::is_directory(series)) GTEST_SKIP() << "no real DICOM data: " << series << " is absent";
+  gdm::ImageInfo info;
+  const gdm::Volume v = gdm::read_volume(series.string(), {}, &info);
+  EXPECT_EQ(info.format, "DICOM series");
+  EXPECT_EQ(info.slices, 28u);
+  EXPECT_EQ(v.dims()[0], 512);
+  EXPECT_EQ(v.dims()[2], 28);
+  EXPECT_NEAR(v.spacing()[0], 0.4512, 1e-4);
+  EXPECT_NEAR(v.spacing()[1], 0.4512, 1e-4);
+  EXPECT_NEAR(v.spacing()[2], 5.0, 1e-4);
+  EXPECT_LT(info.minimum, -900.0) << "rescale intercept -1024 applied";
+}
+
+TEST(RealData, EveryFileOfTheSharedFolderReads) {
+  const fs::path data = fs::path(GDM_SHARED_DIR) / "data";
+  const std::vector<std::string> files{"tooth/tooth.mhd", "mri-head-t1/chris_t1.nii.gz", "mri-epi/mha.mha",
+                                       "neghip/neghip.mhd"};
+  if (!fs::is_directory(data)) GTEST_SKIP() << "no real data: " << data << " is absent";
+  for (const auto& f : files) {
+    if (!fs::exists(data / f)) continue;
+    gdm::ImageInfo info;
+    EXPECT_NO_THROW(gdm::read_volume((data / f).string(), {}, &info)) << f;
+    EXPECT_TRUE(info.warnings.empty()) << f;
+  }
+}
+
+// ----------------------------------------------------- d. bad spacing --
+
+TEST(Hostile, MetaImageSpacingZeroNegativeNaN) {
+  const fs::path dir = work_dir();
+  const std::string voxels(4 * 4 * 4, '\x03');
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {"zero.mha", "1 0 1"}, {"negative.mha", "1 1 -2"}, {"nan.mha", "nan 1 1"}};
+  for (const auto& [name, spacing] : cases) {
+    std::string data = voxels;
+    data[5] = '\x09';
+    write_text(dir / name, mha_header("4 4 4", spacing, "MET_UCHAR") + data);
+    itk_alone(dir / name);
+    expect_refused(dir / name, {"spacing (ElementSpacing) along axis", "positive finite"});
+  }
+}
+
+TEST(Hostile, NrrdSpacingZeroNegativeNaN) {
+  const fs::path dir = work_dir();
+  std::string data(4 * 4 * 4, '\x03');
+  data[5] = '\x09';
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {"zero.nrrd", "spacings: 1 0 1\n"},
+      {"negative.nrrd", "spacings: 1 1 -2\n"},
+      {"nan.nrrd", "spacings: nan 1 1\n"},
+      {"zero-direction.nrrd", "space: left-posterior-superior\nspace directions: (1,0,0) (0,0,0) (0,0,1)\n"},
+      {"nan-direction.nrrd", "space: left-posterior-superior\nspace directions: (1,0,0) (0,1,0) (nan,0,0)\n"}};
+  for (const auto& [name, field] : cases) {
+    write_text(dir / name, "NRRD0004\ntype: unsigned char\ndimension: 3\nsizes: 4 4 4\n" + field +
+                               "encoding: raw\n\n" + data);
+    itk_alone(dir / name);
+    expect_refused(dir / name, {"spacing", "along axis", "positive finite"});
+  }
+}
+
+TEST(Hostile, NiftiSpacingZeroNegativeNaN) {
+  const fs::path dir = work_dir();
+  write(small_volume(false).GetPointer(), dir / "v.nii");
+  const std::string good = slurp(dir / "v.nii");
+  const std::vector<std::pair<std::string, float>> cases{
+      {"zero.nii", 0.0f}, {"negative.nii", -0.5f}, {"nan.nii", std::numeric_limits<float>::quiet_NaN()}};
+  for (const auto& [name, value] : cases) {
+    std::string bytes = good;
+    std::memcpy(&bytes[80 + 4], &value, 4);  // pixdim[2]: the y spacing
+    write_text(dir / name, bytes);
+    itk_alone(dir / name);
+    expect_refused(dir / name, {"spacing (pixdim) along axis 1", "positive finite"});
+  }
+}
+
+// ---------------------------------------------- e. not a regular file --
+
+TEST(Hostile, FifoIsRefusedAtOnce) {
+  const fs::path dir = work_dir();
+  const fs::path fifo = dir / "pipe.mha";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const auto start = std::chrono::steady_clock::now();
+  expect_refused(fifo, {"is a FIFO", "not a regular file"});
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 1.0);
+  if (fs::exists("/dev/null")) expect_refused("/dev/null", {"is a character device"});
+}
+
+// --------------------------------------------------- f. NaN and Inf --
+
+TEST(Hostile, NonFiniteVoxels) {
+  const fs::path dir = work_dir();
+  auto image = FloatImage::New();
+  image->SetRegions(FloatImage::RegionType(FloatImage::SizeType{{8, 8, 8}}));
+  image->Allocate();
+  for (int i = 0; i < 512; ++i) image->GetBufferPointer()[i] = static_cast<float>(i % 17);
+  image->GetBufferPointer()[10] = std::numeric_limits<float>::quiet_NaN();
+  image->GetBufferPointer()[20] = std::numeric_limits<float>::quiet_NaN();
+  image->GetBufferPointer()[30] = std::numeric_limits<float>::infinity();
+  write(image.GetPointer(), dir / "some-nan.mha");
+  expect_refused(dir / "some-nan.mha", {"holds 3 non-finite voxels (2 NaN, 1 infinite) of 512"});
+  image->FillBuffer(std::numeric_limits<float>::quiet_NaN());
+  write(image.GetPointer(), dir / "all-nan.nrrd");
+  expect_refused(dir / "all-nan.nrrd", {"holds 512 non-finite voxels (512 NaN, 0 infinite) of 512"});
+}
