@@ -30,4 +30,11 @@ class InvalidSeed : public Error {
   using Error::Error;
 };
 
+// A file that cannot be read or contradicts itself (empty, truncated, counts
+// or indices out of range, non-finite coordinates, ...).
+class InvalidInput : public Error {
+ public:
+  using Error::Error;
+};
+
 }  // namespace gdm
