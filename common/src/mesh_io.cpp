@@ -584,8 +584,8 @@ MeshFileData read_stl(Cursor& c, const std::string& data) {
       return m;
     }
   }
-  std::string first = c.word();
-  if (first != "solid") {
+  const std::size_t start = data.find_first_not_of(" \t\r\n");
+  if (start == std::string::npos || data.compare(start, 5, "solid") != 0) {
     if (data.size() >= 84) {
       std::uint32_t n = 0;
       std::memcpy(&n, data.data() + 80, 4);
@@ -594,6 +594,7 @@ MeshFileData read_stl(Cursor& c, const std::string& data) {
     }
     c.fail("not an STL file (too short for binary, no 'solid' for ASCII)");
   }
+  c.word();  // solid
   std::vector<std::uint32_t> corners;
   for (std::string w = c.word(); !w.empty(); w = c.word()) {
     if (w == "vertex") {

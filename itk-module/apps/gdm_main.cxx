@@ -20,6 +20,7 @@
 #include "cli_options.h"
 #include "default_input.h"
 #include "mesh_writers.h"
+#include "wrap_command.h"
 #include "progress.h"
 #include "report.h"
 
@@ -265,6 +266,7 @@ int run(const Options& options_in, RunRecord& record) {
 
 int main(int argc, char* argv[]) {
   using namespace gdm_cli;
+  if (argc >= 2 && std::string(argv[1]) == "wrap") return wrap_command(argc, argv);  // wrap_command.h
   Options options;
   try {
     options = parse_arguments(argc, argv);

@@ -1,8 +1,8 @@
-// Mesh files by extension: .ply (binary little-endian, with the per-vertex
-// generation as an int property), .obj, .stl (binary), .off, .vtk (legacy
-// ASCII polydata with the generation as point data). Every file is written to
+// Mesh and text files for the CLI: the core's writers (gdm/mesh_io.h: .ply
+// binary little-endian with the per-vertex generation, .obj, .stl binary,
+// .off, .vtk legacy ASCII with the generation as point data), each written to
 // a temporary name in the same folder and renamed, so a failed run leaves no
-// partial file.
+// partial file; errors mapped onto the CLI's exit codes.
 #pragma once
 
 #include <string>
@@ -22,5 +22,9 @@ void write_text_file(const std::string& text, const std::string& path);
 
 // Lower-case extension with its dot (".nii.gz" counts as one), "" when none.
 std::string file_extension(const std::string& path);
+
+// The triangles of a mesh file (gdm::read_mesh_file); throws InputError
+// naming the file and the problem (missing, empty, corrupt, no triangles).
+SurfaceMesh read_surface_mesh(const std::string& path);
 
 }  // namespace gdm_cli

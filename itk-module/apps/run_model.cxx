@@ -1,7 +1,6 @@
 // The only translation unit that instantiates the ITK filter.
 #include "itkGeometricallyDeformedModelImageToMeshFilter.h"
 #include "itkMesh.h"
-#include "itkMeshFileReader.h"
 #include "itkTriangleCell.h"
 
 #include "run_model.h"
@@ -11,6 +10,7 @@
 #include <unordered_map>
 
 #include "cli_errors.h"
+#include "mesh_writers.h"
 
 namespace gdm_cli {
 namespace {
@@ -62,18 +62,9 @@ SurfaceMesh from_itk(const MeshType* mesh) {
 
 }  // namespace
 
-SurfaceMesh read_seed_mesh(const std::string& path) {
-  auto reader = itk::MeshFileReader<MeshType>::New();
-  reader->SetFileName(path);
-  try {
-    reader->Update();
-  } catch (const itk::ExceptionObject& e) {
-    throw InputError("cannot read the seed mesh " + path + " (.vtk, .obj or .off): " + e.GetDescription());
-  }
-  SurfaceMesh mesh = from_itk(reader->GetOutput());
-  if (mesh.faces.empty()) throw InputError("the seed mesh " + path + " has no triangles");
-  return mesh;
-}
+// The core's reader (gdm/mesh_io.h): a hostile file (empty, no faces, bad
+// counts or indices, random bytes) is an InputError, never a crash.
+SurfaceMesh read_seed_mesh(const std::string& path) { return read_surface_mesh(path); }
 
 ModelResult run_model(const Image* image, const gdm::DeformOptions& o, const ModelSeed& seed,
                       const ProgressCallback& progress) {

@@ -35,7 +35,8 @@ using ProgressCallback = std::function<void(const CycleFigures&)>;
 ModelResult run_model(const Image* image, const gdm::DeformOptions& options, const ModelSeed& seed,
                       const ProgressCallback& progress);
 
-// Reads a seed mesh (.vtk, .obj, .off) with ITK's mesh readers; throws InputError.
+// Reads a seed mesh (.ply, .obj, .off, .stl, .vtk) with the core's reader
+// (gdm/mesh_io.h); throws InputError naming the file and the problem.
 SurfaceMesh read_seed_mesh(const std::string& path);
 
 }  // namespace gdm_cli
