@@ -64,7 +64,16 @@ SurfaceMesh from_itk(const MeshType* mesh) {
 
 // The core's reader (gdm/mesh_io.h): a hostile file (empty, no faces, bad
 // counts or indices, random bytes) is an InputError, never a crash.
-SurfaceMesh read_seed_mesh(const std::string& path) { return read_surface_mesh(path); }
+SurfaceMesh read_seed_mesh(const std::string& path) {
+  try {
+    return read_surface_mesh(path);
+  } catch (const InputError& e) {
+    std::string message = e.what();  // "cannot read the mesh <path>: <problem>"
+    const std::string core = "cannot read the mesh ";
+    if (message.compare(0, core.size(), core) == 0) message = "cannot read the seed mesh " + message.substr(core.size());
+    throw InputError(message);
+  }
+}
 
 ModelResult run_model(const Image* image, const gdm::DeformOptions& o, const ModelSeed& seed,
                       const ProgressCallback& progress) {
