@@ -297,10 +297,17 @@ bool FilterGdmPlugin::applyFilter(QAction *action, MeshDocument &md, const RichP
 		case FP_GDM_SHRINK_WRAP: {
 			MeshModel *current = md.mm();
 			if (current == nullptr) return fail("no current layer to wrap");
-			gdm_meshlab::WrapParams w;
+			gdm_meshlab::ModelParams m;
+			read_model_params(par, m);
+			gdm::WrapOptions w;
 			w.cell_size = par.getAbsPerc("CellSize");
 			w.tolerance = par.getAbsPerc("Tolerance");
-			read_model_params(par, w);
+			w.a0 = m.a0;
+			w.a1 = m.a1;
+			w.a2 = m.a2;
+			w.lod_face_area = m.lod_face_area;
+			w.global_refinements = m.global_refinements;
+			w.max_cycles = m.max_cycles;
 			const gdm::Mesh mesh =
 				gdm_meshlab::shrink_wrap(gdm_meshlab::triangle_soup(current->cm), w, progress, &log);
 			flushLog();

@@ -5,6 +5,7 @@
 #include "gdm/errors.h"
 #include "gdm/mesh_checks.h"
 #include "gdm/seed.h"
+#include "smooth_volume.h"
 #include "volume_io.h"
 
 namespace gdm_meshlab {
@@ -106,8 +107,8 @@ void to_meshlab(const gdm::Mesh& mesh, CMeshO& out) {
   }
 }
 
-std::vector<Triangle> triangle_soup(const CMeshO& m) {
-  std::vector<Triangle> soup;
+std::vector<gdm::Triangle> triangle_soup(const CMeshO& m) {
+  std::vector<gdm::Triangle> soup;
   const auto point = [](const CVertexO* v) {
     return gdm::Vec3(v->cP()[0], v->cP()[1], v->cP()[2]);
   };
@@ -154,6 +155,27 @@ gdm::Mesh deform_seed_in_volume(gdm::Mesh seed, const VolumeParams& v, const Pro
   if (result.reason == gdm::StopReason::cancelled) throw gdm::Error("cancelled");
   finish_model(result, seed, log);
   return seed;
+}
+
+gdm::Mesh shrink_wrap(const std::vector<gdm::Triangle>& soup, gdm::WrapOptions w, const Progress& progress,
+                      LogLines* log) {
+  if (soup.empty()) throw gdm::InvalidOption("the current layer is empty: nothing to wrap");
+  gdm::DeformObserver observer;
+  if (progress) {
+    w.field_progress = [progress](double f) {
+      return progress(static_cast<int>(20 * f), "Distance field of the input");
+    };
+    const int refinements = w.global_refinements;
+    const gdm::DeformObserver shrinking =
+        observer_for(progress, 20, 90, refinements + 1, "Shrinking the wrap");
+    observer = [progress, shrinking, refinements](const gdm::CycleReport& r) {
+      if (r.stage <= refinements) return shrinking(r);
+      return progress(90 + (r.stage - refinements), "Covering the input");  // coverage round r.stage - refinements
+    };
+  }
+  gdm::WrapResult r = gdm::shrink_wrap(soup, w, observer);
+  log->insert(log->end(), r.notes.begin(), r.notes.end());
+  return std::move(r.mesh);
 }
 
 }  // namespace gdm_meshlab

@@ -12,7 +12,9 @@
 
 #include "gdm/deformer.h"
 #include "gdm/mesh.h"
-#include "shrink_wrap.h"
+#include "gdm/shrink_wrap.h"
+#include "gdm/triangle_locator.h"
+#include "plugin_support.h"
 
 namespace gdm_meshlab {
 
@@ -27,7 +29,7 @@ void to_meshlab(const gdm::Mesh& mesh, CMeshO& out);
 
 // The triangles of a layer as a soup; a layer without faces gives its vertices
 // as degenerate triangles (a point cloud can be wrapped too).
-std::vector<Triangle> triangle_soup(const CMeshO& m);
+std::vector<gdm::Triangle> triangle_soup(const CMeshO& m);
 
 // What the volume filters share.
 struct VolumeParams : ModelParams {
@@ -55,6 +57,10 @@ gdm::Mesh model_from_volume(const VolumeParams& v, const SeedParams& s, const Pr
 // object, or shrunk onto it when v.shrink (the seed encloses the object).
 gdm::Mesh deform_seed_in_volume(gdm::Mesh seed, const VolumeParams& v, const Progress& progress, LogLines* log);
 
-// Filter 3, shrink_wrap, is in shrink_wrap.h.
+// Filter 3: the core's gdm::shrink_wrap (gdm/shrink_wrap.h) of a layer's
+// triangle soup, its progress mapped onto MeshLab's bar (distance field 0-20%,
+// shrinking 20-90%, coverage rounds 91-95%) and its notes logged.
+gdm::Mesh shrink_wrap(const std::vector<gdm::Triangle>& soup, gdm::WrapOptions w, const Progress& progress,
+                      LogLines* log);
 
 }  // namespace gdm_meshlab

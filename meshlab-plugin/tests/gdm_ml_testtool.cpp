@@ -4,7 +4,7 @@
 //       [--no-self-intersection] [--faces lo hi] [--phantom-sphere maxvox]
 //       [--covers input.ply tol] [--no-contact input.ply] [--quality]
 //   gdm_ml_testtool wrap <input> <output> <cell> <tolerance> [coverage rounds]
-//       the shrink-wrap filter's work outside MeshLab, its log and time
+//       gdm::shrink_wrap (the shrink-wrap filter's work) outside MeshLab, its notes and time
 // Exit code 0 when every requested check passes; prints the measurements.
 #include <chrono>
 #include <cmath>
@@ -23,8 +23,8 @@
 #include "gdm/obstacle.h"
 #include "gdm/phantoms.h"
 #include "gdm/seed.h"
-#include "shrink_wrap.h"
-#include "shrink_wrap_field.h"
+#include "gdm/shrink_wrap.h"
+#include "gdm/triangle_locator.h"
 
 void write_volume(const gdm::Volume& volume, const std::string& path);
 
@@ -160,10 +160,10 @@ int inputs(const std::string& dir) {
   return 0;
 }
 
-std::vector<gdm_meshlab::Triangle> soup(const gdm::Mesh& mesh) {
-  std::vector<gdm_meshlab::Triangle> out;
+std::vector<gdm::Triangle> soup(const gdm::Mesh& mesh) {
+  std::vector<gdm::Triangle> out;
   for (auto f : mesh.faces()) {
-    gdm_meshlab::Triangle t;
+    gdm::Triangle t;
     int k = 0;
     for (auto v : mesh.fv_range(f)) t[k++] = gdm::to_eigen(mesh.point(v));
     out.push_back(t);
@@ -249,15 +249,17 @@ int wrap(int argc, char** argv) {
   }
   for (auto v : input.vertices())
     input.set_point(v, gdm::to_point(gdm::round_to_float(gdm::to_eigen(input.point(v)))));
-  gdm_meshlab::WrapParams w;
+  gdm::WrapOptions w;
   w.cell_size = std::atof(argv[4]);
   w.tolerance = std::atof(argv[5]);
   if (argc > 6) w.coverage_rounds = std::atoi(argv[6]);
-  gdm_meshlab::LogLines log;
+  std::vector<std::string> log;
   const auto start = std::chrono::steady_clock::now();
   gdm::Mesh mesh;
   try {
-    mesh = gdm_meshlab::shrink_wrap(soup(input), w, {}, &log);
+    gdm::WrapResult r = gdm::shrink_wrap(soup(input), w);
+    log = std::move(r.notes);
+    mesh = std::move(r.mesh);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "Error: %s\n", e.what());
     return 1;

@@ -38,7 +38,8 @@ class InvalidSeed : public Error {
   using Error::Error;
 };
 
-// An input file that cannot be read or contradicts itself (truncated, a header that lies, ...).
+// A file that cannot be read or contradicts itself (empty, truncated, counts
+// or indices out of range, non-finite coordinates, ...).
 class InvalidInput : public Error {
  public:
   using Error::Error;

@@ -33,9 +33,12 @@
 #include "itkMeshFileReader.h"
 #include "itkMetaDataObject.h"
 
+#include "gdm/errors.h"
 #include "gdm/mesh_checks.h"
+#include "gdm/mesh_io.h"
 #include "gdm/phantoms.h"
 #include "gdm/seed.h"
+#include "gdm/triangle_locator.h"
 #include "json_writer.h"
 
 namespace fs = std::filesystem;
@@ -938,6 +941,86 @@ TEST(Phantom, AutoSeedInsideAConcaveObject) {
       nearest = std::min(nearest, std::hypot(p[0] - tip[0], p[1] - tip[1], p[2] - tip[2]));
     EXPECT_LT(nearest, 2.5) << "root " << k;
   }
+}
+
+// ------------------------------------------------------------------ wrap --
+
+// A geodesic sphere of radius 10 mm around (5, -3, 40) with its top cap
+// (centroids above z = 40 + 8 mm) cut off: an open mesh.
+gdm::Mesh open_sphere() {
+  gdm::Mesh mesh = gdm::make_geodesic_sphere(gdm::Vec3(5.0, -3.0, 40.0), 10.0, 3);
+  mesh.request_face_status();
+  mesh.request_edge_status();
+  mesh.request_vertex_status();
+  for (auto f : mesh.faces()) {
+    gdm::Vec3 c = gdm::Vec3::Zero();
+    for (auto v : mesh.fv_range(f)) c += gdm::to_eigen(mesh.point(v)) / 3.0;
+    if (c.z() > 48.0) mesh.delete_face(f, true);
+  }
+  mesh.garbage_collection();
+  return mesh;
+}
+
+TEST(Wrap, OpenSphereBecomesClosed) {
+  const fs::path dir = work_dir();
+  const gdm::Mesh input = open_sphere();
+  ASSERT_FALSE(gdm::measure(input).closed);
+  gdm::write_mesh(input, (dir / "open.obj").string());
+  const double tolerance = 1.5;
+  const GdmRun r = run_gdm(dir, {"wrap", "open.obj", "-o", "wrap.ply", "--tolerance", "1.5", "--cell-size", "0.5",
+                                 "--quiet", "--report", "wrap.json"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("closed yes, 2-manifold yes, genus 0, self-intersections 0"), std::string::npos) << r.out;
+  EXPECT_NE(slurp(dir / "wrap.json").find("\"farthest_input_distance_mm\""), std::string::npos);
+  const gdm::Mesh wrap = gdm::read_mesh((dir / "wrap.ply").string());
+  const gdm::MeshReport m = gdm::measure(wrap);
+  EXPECT_TRUE(m.closed);
+  EXPECT_TRUE(m.two_manifold);
+  EXPECT_EQ(m.genus, 0);
+  EXPECT_EQ(m.self_intersections, 0u);
+  std::vector<gdm::Triangle> faces;
+  for (auto f : wrap.faces()) {
+    gdm::Triangle t;
+    int k = 0;
+    for (auto v : wrap.fv_range(f)) t[k++] = gdm::to_eigen(wrap.point(v));
+    faces.push_back(t);
+  }
+  const gdm::TriangleLocator to_wrap(faces);
+  double farthest = 0.0;
+  for (auto v : input.vertices()) farthest = std::max(farthest, to_wrap.distance(gdm::to_eigen(input.point(v))));
+  EXPECT_LE(farthest, tolerance);
+}
+
+TEST(Wrap, BadToleranceExitsTwo) {
+  const fs::path dir = work_dir();
+  gdm::write_mesh(open_sphere(), (dir / "open.ply").string());
+  for (const char* t : {"-1", "0", "abc", "nan"}) {
+    const GdmRun r = run_gdm(dir, {"wrap", "open.ply", "-o", "wrap.ply", "--tolerance", t});
+    EXPECT_EQ(r.code, 2) << t << ": " << r.err;
+    EXPECT_NE(r.err.find("--tolerance"), std::string::npos) << r.err;
+  }
+  const GdmRun no_tolerance = run_gdm(dir, {"wrap", "open.ply", "-o", "wrap.ply"});
+  EXPECT_EQ(no_tolerance.code, 2) << no_tolerance.err;
+  const GdmRun coarse = run_gdm(dir, {"wrap", "open.ply", "-o", "wrap.ply", "--tolerance", "1", "--cell-size", "2"});
+  EXPECT_EQ(coarse.code, 2) << coarse.err;
+  EXPECT_FALSE(fs::exists(dir / "wrap.ply"));
+}
+
+TEST(Wrap, MissingOrEmptyInputExitsThree) {
+  const fs::path dir = work_dir();
+  const GdmRun missing = run_gdm(dir, {"wrap", "nothing_here.obj", "-o", "wrap.ply", "--tolerance", "1"});
+  EXPECT_EQ(missing.code, 3) << missing.err;
+  EXPECT_NE(missing.err.find("nothing_here.obj"), std::string::npos) << missing.err;
+  std::ofstream(dir / "empty.obj").close();
+  const GdmRun empty = run_gdm(dir, {"wrap", "empty.obj", "-o", "wrap.ply", "--tolerance", "1"});
+  EXPECT_EQ(empty.code, 3) << empty.err;
+  EXPECT_NE(empty.err.find("empty.obj"), std::string::npos) << empty.err;
+  EXPECT_NE(empty.err.find("empty"), std::string::npos) << empty.err;
+  std::ofstream(dir / "points.off") << "OFF\n3 0 0\n0 0 0\n1 0 0\n0 1 0\n";
+  const GdmRun points = run_gdm(dir, {"wrap", "points.off", "-o", "wrap.ply", "--tolerance", "1"});
+  EXPECT_EQ(points.code, 3) << points.err;
+  EXPECT_NE(points.err.find("no faces"), std::string::npos) << points.err;
+  EXPECT_FALSE(fs::exists(dir / "wrap.ply"));
 }
 
 }  // namespace

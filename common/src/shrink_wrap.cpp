@@ -1,4 +1,4 @@
-#include "shrink_wrap.h"
+#include "gdm/shrink_wrap.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,6 +8,7 @@
 #include <unordered_map>
 
 #include "gdm/cell_hash.h"
+#include "gdm/distance_field.h"
 #include "gdm/errors.h"
 #include "gdm/float_snap.h"
 #include "gdm/mesh_checks.h"
@@ -16,19 +17,11 @@
 #include "gdm/seed.h"
 #include "gdm/triangle_locator.h"
 
-namespace gdm_meshlab {
+namespace gdm {
 
-gdm::DeformOptions model_options(const ModelParams& m) {
-  gdm::DeformOptions o;
-  o.a0 = m.a0;
-  o.a1 = m.a1;
-  o.a2 = m.a2;
-  o.lod_face_area = m.lod_face_area;
-  o.global_refinements = m.global_refinements;
-  o.max_cycles = m.max_cycles;
-  return o;
-}
+namespace {
 
+// A number with four significant digits, for the notes.
 std::string fmt(double v) {
   std::ostringstream s;
   s.precision(4);
@@ -36,40 +29,41 @@ std::string fmt(double v) {
   return s.str();
 }
 
-// Each stage (the first convergence and every global refinement) gets an
-// equal share, filled asymptotically as its cycles go by.
-gdm::DeformObserver observer_for(const Progress& progress, int from, int to, int stages, const char* text) {
-  if (!progress) return {};
-  auto stage_start = std::make_shared<std::pair<int, int>>(0, 0);  // stage, first cycle
-  return [=](const gdm::CycleReport& r) {
-    if (r.stage != stage_start->first) *stage_start = {r.stage, r.cycle};
-    const double in_stage = r.cycle - stage_start->second;
-    const double f = 1.0 - 1.0 / (1.0 + in_stage / 30.0);
-    const double share = (std::min(r.stage, stages - 1) + f) / stages;
-    return progress(from + static_cast<int>((to - from) * share), text);
-  };
-}
-
-// gdm::deform ends with the model on float-representable points
-// (float_exact_output): MeshLab's float coordinates keep the no-intersection
-// guarantee.
-void finish_model(const gdm::DeformResult& r, gdm::Mesh& mesh, LogLines* log) {
+// Compacts the wrap after gdm::deform and notes the outcome.
+void finish_deformation(const DeformResult& r, Mesh& mesh, std::vector<std::string>* log) {
   mesh.garbage_collection();
   if (r.float_refused > 0)
     log->push_back("warning: " + std::to_string(r.float_refused) +
                    " vertices could not be moved to float precision without a self-intersection");
-  log->push_back("deformation " + gdm::to_string(r.reason) + " after " + std::to_string(r.cycles) + " cycles (" +
+  log->push_back("deformation " + to_string(r.reason) + " after " + std::to_string(r.cycles) + " cycles (" +
                  std::to_string(r.global_refinements) + " global refinements, " + std::to_string(r.rejected_moves) +
                  " moves vetoed by the self-intersection guard)");
-  if (r.reason == gdm::StopReason::max_cycles || r.reason == gdm::StopReason::face_limit)
+  if (r.reason == StopReason::max_cycles || r.reason == StopReason::face_limit)
     log->push_back("warning: the model did not converge; raise the maximum number of cycles or check the threshold");
   if (r.border_vertices > 0)
     log->push_back("warning: " + std::to_string(r.border_vertices) +
                    " vertices reached the border of the volume: the object leaks (check threshold and polarity)");
-  log->push_back("result: " + gdm::to_string(gdm::measure(mesh)));
+  log->push_back("result: " + to_string(measure(mesh)));
 }
 
-namespace {
+void validate(const std::vector<Triangle>& input, const WrapOptions& w) {
+  const auto require = [](bool ok, const std::string& message) {
+    if (!ok) throw InvalidOption(message);
+  };
+  require(std::isfinite(w.cell_size) && w.cell_size > 0.0, "cell_size must be > 0 (mm), got " + fmt(w.cell_size));
+  require(std::isfinite(w.tolerance) && w.tolerance > 0.0, "tolerance must be > 0 (mm), got " + fmt(w.tolerance));
+  require(w.tolerance >= w.cell_size, "tolerance (" + fmt(w.tolerance) + ") must be >= cell_size (" +
+                                          fmt(w.cell_size) + "): the grid cannot resolve a closer wrap");
+  require(w.coverage_rounds >= 0, "coverage_rounds must be >= 0, got " + std::to_string(w.coverage_rounds));
+  require(std::isfinite(w.lod_face_area) && w.lod_face_area > 0.0,
+          "lod_face_area must be > 0 (cell^2), got " + fmt(w.lod_face_area));
+  require(w.global_refinements >= 0, "global_refinements must be >= 0, got " + std::to_string(w.global_refinements));
+  require(w.max_cycles > 0, "max_cycles must be > 0, got " + std::to_string(w.max_cycles));
+  require(w.threads >= 0, "threads must be >= 0 (0 = all cores), got " + std::to_string(w.threads));
+  require(!input.empty(), "the input is empty: nothing to wrap");
+  for (const auto& t : input)
+    for (const auto& p : t) require(p.allFinite(), "the input has a non-finite coordinate");
+}
 
 std::vector<Triangle> triangles_of(const gdm::Mesh& mesh) {
   std::vector<Triangle> out;
@@ -160,36 +154,31 @@ std::size_t refine_near(gdm::Mesh& mesh, const std::vector<FarPoint>& points, do
 
 }  // namespace
 
-gdm::Mesh shrink_wrap(const std::vector<Triangle>& input, const WrapParams& w, const Progress& progress,
-                      LogLines* log) {
-  if (!(w.cell_size > 0.0)) throw gdm::InvalidOption("the cell size must be positive");
-  if (!(w.tolerance >= w.cell_size))
-    throw gdm::InvalidOption("the tolerance (" + fmt(w.tolerance) + ") must be at least the cell size (" +
-                             fmt(w.cell_size) + "): the grid cannot resolve a closer wrap");
-  gdm::Vec3 lo = gdm::Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+WrapResult shrink_wrap(const std::vector<Triangle>& input, const WrapOptions& w, const DeformObserver& observer) {
+  validate(input, w);
+  WrapResult out;
+  std::vector<std::string>* log = &out.notes;
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
   for (const auto& t : input)
     for (const auto& p : t) {
       lo = lo.cwiseMin(p);
       hi = hi.cwiseMax(p);
     }
-  if (input.empty()) throw gdm::InvalidOption("the current layer is empty: nothing to wrap");
   // The wrap settles where the distance to the input is a third of the
   // tolerance: in a concave crease of angle theta the offset surface's corner
   // lies offset / sin(theta / 2) from the crease, so creases down to about
   // 40 degrees stay within the tolerance.
   const double offset = w.tolerance / 3.0;
-  const gdm::Vec3 centre = 0.5 * (lo + hi);
+  const Vec3 centre = 0.5 * (lo + hi);
   const double radius = 0.5 * (hi - lo).norm() + offset + 2.0 * w.cell_size;
-  WrapFieldOptions fo;
+  DistanceFieldOptions fo;
   fo.cell_size = w.cell_size;
   fo.offset = offset;
   // The grid holds the seed sphere with a cell to spare.
-  const gdm::Vec3 sphere_lo = centre - gdm::Vec3::Constant(radius), sphere_hi = centre + gdm::Vec3::Constant(radius);
+  const Vec3 sphere_lo = centre - Vec3::Constant(radius), sphere_hi = centre + Vec3::Constant(radius);
   fo.padding = w.cell_size;
-  const gdm::Volume field = make_wrap_field(input, sphere_lo, sphere_hi, fo, [&](double f) {
-    return !progress || progress(static_cast<int>(20 * f), "Distance field of the input");
-  });
-  if (field.voxel_count() == 0) throw gdm::Error("cancelled");
+  const Volume field = distance_field(input, sphere_lo, sphere_hi, fo, w.field_progress);
+  if (field.voxel_count() == 0) throw Error("cancelled");
   log->push_back("distance field: " + std::to_string(field.dims()[0]) + " x " + std::to_string(field.dims()[1]) +
                  " x " + std::to_string(field.dims()[2]) + " cells of " + fmt(w.cell_size) + " mm; the wrap settles " +
                  fmt(offset) + " mm from the input");
@@ -199,23 +188,32 @@ gdm::Mesh shrink_wrap(const std::vector<Triangle>& input, const WrapParams& w, c
   const double lod_mm2 = w.lod_face_area * w.cell_size * w.cell_size;
   int level = 0;
   while (level < 5 && sphere_area / (20.0 * std::pow(4.0, level)) > 4.0 * lod_mm2) ++level;
-  gdm::Mesh mesh = gdm::make_geodesic_sphere(centre, radius, level);
+  Mesh& mesh = out.mesh;
+  mesh = make_geodesic_sphere(centre, radius, level);
   log->push_back("seed: geodesic sphere of radius " + fmt(radius) + " mm, " + std::to_string(mesh.n_faces()) +
                  " faces");
 
-  gdm::DeformOptions o = model_options(w);
+  DeformOptions o;
+  o.a0 = w.a0;
+  o.a1 = w.a1;
+  o.a2 = w.a2;
+  o.lod_face_area = w.lod_face_area;
+  o.global_refinements = w.global_refinements;
+  o.max_cycles = w.max_cycles;
+  o.threads = w.threads;
   o.subvoxel_fit = false;
   o.lod_tolerance = 0.0;
-  o.mode = gdm::Mode::shrink;
-  o.polarity = gdm::Polarity::object_darker;
+  o.mode = Mode::shrink;
+  o.polarity = Polarity::object_darker;
   o.threshold = offset;
   // The fit and the error-driven level of detail do not check obstacles (off above).
-  const gdm::Obstacle obstacle(input);
+  const Obstacle obstacle(input);
   o.obstacle = &obstacle;
-  const auto result =
-      gdm::deform(mesh, field, o, observer_for(progress, 20, 90, w.global_refinements + 1, "Shrinking the wrap"));
-  if (result.reason == gdm::StopReason::cancelled) throw gdm::Error("cancelled");
-  finish_model(result, mesh, log);
+  const auto result = deform(mesh, field, o, observer);
+  if (result.reason == StopReason::cancelled) throw Error("cancelled");
+  out.deform = result;
+  out.total_cycles = result.cycles;
+  finish_deformation(result, mesh, log);
 
   // Coverage: where input still lies farther than the tolerance, the wrap
   // converged with faces spanning a crevice of the offset surface narrower
@@ -232,51 +230,62 @@ gdm::Mesh shrink_wrap(const std::vector<Triangle>& input, const WrapParams& w, c
   double input_to_wrap = 0.0;
   std::vector<FarPoint> far = far_input(input, mesh, refine_beyond, &input_to_wrap);
   for (int round = 1; round <= w.coverage_rounds && input_to_wrap > aim && cycles_left > 0; ++round) {
-    if (progress && !progress(90 + round, "Covering the input")) throw gdm::Error("cancelled");
     const double before = input_to_wrap;
     const int cycle = w.max_cycles - cycles_left;  // new vertices' generation: the cycle they appear after
     const std::size_t splits = refine_near(mesh, far, 0.5 * w.cell_size, 2, cycle);
     if (splits == 0) break;
-    gdm::DeformOptions again = o;
+    out.coverage_rounds_done = round;
+    DeformOptions again = o;
     again.global_refinements = 0;
     again.max_cycles = cycles_left;
-    const auto r =
-        gdm::deform(mesh, field, again, observer_for(progress, 90 + round, 90 + round, 1, "Covering the input"));
-    if (r.reason == gdm::StopReason::cancelled) throw gdm::Error("cancelled");
+    DeformObserver round_observer;
+    if (observer) {
+      const int stage = w.global_refinements + round;
+      round_observer = [&observer, stage](const CycleReport& c) {
+        CycleReport shifted = c;
+        shifted.stage = stage;
+        return observer(shifted);
+      };
+    }
+    const auto r = deform(mesh, field, again, round_observer);
+    if (r.reason == StopReason::cancelled) throw Error("cancelled");
     mesh.garbage_collection();
     if (r.float_refused > 0)
       log->push_back("warning: " + std::to_string(r.float_refused) +
                      " vertices could not be moved to float precision without a self-intersection");
     cycles_left -= r.cycles;
+    out.total_cycles += r.cycles;
     const std::size_t refined_near = far.size();
     far = far_input(input, mesh, refine_beyond, &input_to_wrap);
     log->push_back("coverage round " + std::to_string(round) + ": the farthest input was " + fmt(before) +
                    " mm from the wrap; " + std::to_string(splits) + " edges split near " +
                    std::to_string(refined_near) + " input points beyond " + fmt(refine_beyond) + " mm, " +
-                   std::to_string(r.cycles) + " cycles (" + gdm::to_string(r.reason) + ", " +
+                   std::to_string(r.cycles) + " cycles (" + to_string(r.reason) + ", " +
                    std::to_string(r.rejected_moves) + " moves vetoed); now the farthest is " + fmt(input_to_wrap) +
                    " mm");
     if (input_to_wrap > before - 0.05 * w.cell_size) break;  // no gain: a crevice the field does not resolve
   }
 
-  if (progress) progress(96, "Measuring the wrap");
-  const gdm::MeshReport report = gdm::measure(mesh);
+  const MeshReport report = measure(mesh);
   if (!report.closed || !report.two_manifold || report.genus != 0 || report.self_intersections != 0)
-    throw gdm::Error("the wrap failed its checks (" + gdm::to_string(report) + ")");
-  // The wrap is on float points: MeshLab's rounding changes nothing. Check it.
+    throw Error("the wrap failed its checks (" + to_string(report) + ")");
+  out.report = report;
+  // The wrap is on float points: float consumers (MeshLab, STL, PLY) change
+  // nothing. Check it.
   {
-    gdm::Mesh rounded = mesh;
-    for (auto v : rounded.vertices())
-      rounded.set_point(v, gdm::to_point(gdm::round_to_float(gdm::to_eigen(rounded.point(v)))));
-    const std::size_t crossings = gdm::self_intersecting_pairs(rounded);
+    Mesh rounded = mesh;
+    for (auto v : rounded.vertices()) rounded.set_point(v, to_point(round_to_float(to_eigen(rounded.point(v)))));
+    const std::size_t crossings = self_intersecting_pairs(rounded);
     if (crossings > 0)
       log->push_back("warning: " + std::to_string(crossings) +
-                     " face pairs intersect once the coordinates are rounded to MeshLab's float precision");
+                     " face pairs intersect once the coordinates are rounded to float precision");
   }
-  // input_to_wrap is exact (uncovered_input); the other way, exact too.
-  const gdm::TriangleLocator to_input(input);
+  // input_to_wrap is exact (far_input); the other way, exact too.
+  const TriangleLocator to_input(input);
   double wrap_to_input = 0.0;
-  for (auto v : mesh.vertices()) wrap_to_input = std::max(wrap_to_input, to_input.distance(gdm::to_eigen(mesh.point(v))));
+  for (auto v : mesh.vertices()) wrap_to_input = std::max(wrap_to_input, to_input.distance(to_eigen(mesh.point(v))));
+  out.farthest_input_distance = input_to_wrap;
+  out.farthest_wrap_distance = wrap_to_input;
   log->push_back("wrap: " + std::to_string(report.faces) + " faces, " + std::to_string(report.vertices) +
                  " vertices, volume " + fmt(report.volume) + " mm^3, genus " + std::to_string(report.genus) +
                  ", self-intersections " + std::to_string(report.self_intersections));
@@ -286,7 +295,7 @@ gdm::Mesh shrink_wrap(const std::vector<Triangle>& input, const WrapParams& w, c
     log->push_back("warning: some input lies farther than the tolerance from the wrap (a crevice narrower than "
                    "the cell size, or a hole wider than the level of detail); lower the cell size, the level of "
                    "detail or a2");
-  return mesh;
+  return out;
 }
 
-}  // namespace gdm_meshlab
+}  // namespace gdm

@@ -1,0 +1,31 @@
+// The field a shrink-wrap collapses onto: the unsigned distance to a triangle
+// soup sampled on a regular grid, for gdm::deform in Mode::shrink
+// (gdm/shrink_wrap.h). Triangles in, gdm::Volume out.
+#pragma once
+
+#include <functional>
+#include <vector>
+
+#include "gdm/mesh.h"
+#include "gdm/triangle_locator.h"
+#include "gdm/volume.h"
+
+namespace gdm {
+
+struct DistanceFieldOptions {
+  double cell_size = 1.0;  // grid spacing, mm (> 0)
+  double offset = 1.0;     // the wrap settles on the surface at this distance from the input, mm (> 0)
+  double padding = 0.0;    // extra room around `lo`..`hi`, mm (the seed sphere must fit)
+};
+
+// The grid covers [lo - padding, hi + padding] plus two cells on each side.
+// Values are the unsigned distance to the nearest triangle, clamped at
+// offset + 3 cells (the far field only needs to be "free"). The object is
+// where the value is below `offset`: pass threshold = offset and
+// Polarity::object_darker to gdm::deform. `progress(fraction)` may return false
+// to cancel (then an empty volume is returned). Throws InvalidOption (cell
+// size or offset not positive, no triangles, a grid over 400 million cells).
+Volume distance_field(const std::vector<Triangle>& triangles, const Vec3& lo, const Vec3& hi,
+                      const DistanceFieldOptions& options, const std::function<bool(double)>& progress = {});
+
+}  // namespace gdm

@@ -1,0 +1,66 @@
+// Shrink-wrap: a closed, genus-0, intersection-free mesh around a triangle
+// soup (holes, several pieces, noise, point clouds as degenerate triangles),
+// shrunk from a sphere onto the soup's distance field (gdm/distance_field.h)
+// by gdm::deform, the soup being an obstacle (gdm/obstacle.h): no face of the
+// wrap ever touches the input, so all of the input stays inside the wrap,
+// however thin its parts. Used by the MeshLab plugin and by `gdm wrap`.
+//
+//   gdm::WrapOptions o;
+//   o.tolerance = 1.5;  // mm
+//   o.cell_size = 0.5;  // mm
+//   gdm::WrapResult r = gdm::shrink_wrap(triangles, o);
+//   // r.mesh: closed, 2-manifold, genus 0, no self-intersection
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "gdm/deformer.h"
+#include "gdm/mesh.h"
+#include "gdm/mesh_checks.h"
+#include "gdm/triangle_locator.h"
+
+namespace gdm {
+
+struct WrapOptions {
+  double cell_size = 1.0;        // distance-field grid spacing, mm (> 0)
+  double tolerance = 2.0;        // wanted largest distance of the input from the wrap, mm (>= cell_size);
+                                 // the wrap settles tolerance / 3 from the input
+  int coverage_rounds = 4;       // local refinement rounds while input lies beyond 90% of the tolerance
+                                 // after the convergence (0 = off, >= 0)
+  // The model (gdm::DeformOptions, Table 2 and section 6):
+  double a0 = 1.0;               // deformation gain
+  double a1 = 1.0;               // image event gain
+  double a2 = 5.0;               // topology gain
+  double lod_face_area = 10.0;   // level of detail: faces larger than this are split, cell^2
+  int global_refinements = 1;    // 1-to-4 resamplings, each after a convergence
+  int max_cycles = 2000;         // deformation cycles, all stages and coverage rounds together
+  int threads = 0;               // worker threads; 0 = all cores; the result does not depend on it
+  std::function<bool(double)> field_progress = {};  // the distance field's progress (fraction in [0, 1]);
+                                                     // returning false cancels (gdm::Error "cancelled")
+};
+
+struct WrapResult {
+  Mesh mesh;                              // the wrap, vertices on float-representable points ("v:generation" set)
+  DeformResult deform;                    // the first deformation (the stages before the coverage rounds)
+  int coverage_rounds_done = 0;           // coverage rounds performed
+  int total_cycles = 0;                   // deformation cycles, coverage rounds included
+  double farthest_input_distance = 0.0;   // largest distance of an input corner from the wrap, mm (exact)
+  double farthest_wrap_distance = 0.0;    // largest distance of a wrap vertex from the input, mm (exact)
+  MeshReport report;                      // gdm::measure of the wrap
+  std::vector<std::string> notes;         // what happened, for a log (warnings start with "warning: ")
+};
+
+// The wrap of `input`. Where input still lies beyond 90% of the tolerance
+// after the convergence, the wrap's faces near it are split and the wrap
+// deformed again (at most options.coverage_rounds times). `observer` sees
+// every deformation cycle; coverage round k reports stage
+// global_refinements + k; returning false cancels. Throws InvalidOption (an
+// option out of range, named in the message; empty or non-finite input),
+// gdm::Error ("cancelled", or a wrap that fails its closed / manifold / genus 0
+// / no self-intersection checks).
+WrapResult shrink_wrap(const std::vector<Triangle>& input, const WrapOptions& options,
+                       const DeformObserver& observer = {});
+
+}  // namespace gdm

@@ -1,0 +1,201 @@
+#include "wrap_command.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <iostream>
+#include <new>
+#include <string>
+#include <vector>
+
+#include "cli_errors.h"
+#include "gdm/errors.h"
+#include "gdm/mesh_checks.h"
+#include "gdm/mesh_io.h"
+#include "gdm/shrink_wrap.h"
+#include "json_writer.h"
+#include "mesh_writers.h"
+#include "progress.h"
+
+namespace gdm_cli {
+namespace {
+
+const char* const kUsage =
+    "usage: gdm wrap IN.(ply|obj|off|stl|vtk) -o OUT.(ply|obj|off|stl|vtk) --tolerance D\n"
+    "                [--cell-size C] [--coverage-rounds N] [--quiet] [--report R.json]\n"
+    "\n"
+    "A closed, 2-manifold, genus-0, self-intersection-free mesh around every triangle of IN\n"
+    "(open meshes, several pieces, noise), shrunk from a sphere; no face of it touches IN.\n"
+    "  -o, --output FILE        the wrap (.ply keeps the per-vertex generation)\n"
+    "  --tolerance D            wanted largest distance of IN from the wrap, mm (> 0, required)\n"
+    "  --cell-size C            distance-field cell, mm (<= D; default D / 3)\n"
+    "  --coverage-rounds N      refinement rounds where IN lies beyond 90% of D (default 4, 0 = off)\n"
+    "  --quiet                  no progress and no notes\n"
+    "  --report FILE            a JSON report of the options and the result\n"
+    "Exit codes: 0 written, 2 bad usage, 3 unreadable input, 4 the wrap failed, 5 not written.\n";
+
+struct WrapArgs {
+  std::string input, output, report;
+  double tolerance = std::nan("");
+  double cell_size = std::nan("");  // default tolerance / 3
+  int coverage_rounds = 4;
+  bool quiet = false;
+  bool help = false;
+};
+
+double number(const std::string& option, const std::string& text) {
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(v))
+    throw UsageError(option + " needs a number, got '" + text + "'");
+  return v;
+}
+
+WrapArgs parse(int argc, char* argv[]) {
+  WrapArgs a;
+  for (int i = 2; i < argc; ++i) {
+    const std::string arg = argv[i];
+    const auto value = [&]() -> std::string {
+      if (i + 1 >= argc) throw UsageError(arg + " needs a value");
+      return argv[++i];
+    };
+    if (arg == "-h" || arg == "--help") a.help = true;
+    else if (arg == "-o" || arg == "--output") a.output = value();
+    else if (arg == "--tolerance") a.tolerance = number(arg, value());
+    else if (arg == "--cell-size") a.cell_size = number(arg, value());
+    else if (arg == "--coverage-rounds") {
+      const double n = number(arg, value());
+      if (n != std::floor(n) || n < 0 || n > 1000) throw UsageError("--coverage-rounds must be an integer in [0, 1000]");
+      a.coverage_rounds = static_cast<int>(n);
+    } else if (arg == "--quiet") a.quiet = true;
+    else if (arg == "--report") a.report = value();
+    else if (!arg.empty() && arg[0] == '-') throw UsageError("unknown option '" + arg + "'");
+    else if (a.input.empty()) a.input = arg;
+    else throw UsageError("more than one input mesh ('" + a.input + "', '" + arg + "')");
+  }
+  if (a.help) return a;
+  if (a.input.empty()) throw UsageError("no input mesh");
+  if (a.output.empty()) throw UsageError("no output mesh (-o OUT.ply)");
+  if (!is_supported_mesh_extension(a.input))
+    throw UsageError("cannot read '" + a.input + "': unknown mesh extension (use .ply, .obj, .off, .stl or .vtk)");
+  if (!is_supported_mesh_extension(a.output))
+    throw UsageError("cannot write '" + a.output + "': unknown mesh extension (use .ply, .obj, .stl, .off or .vtk)");
+  if (std::isnan(a.tolerance)) throw UsageError("--tolerance is required (mm)");
+  if (!(a.tolerance > 0)) throw UsageError("--tolerance must be > 0 (mm), got " + std::to_string(a.tolerance));
+  if (std::isnan(a.cell_size)) a.cell_size = a.tolerance / 3.0;
+  if (!(a.cell_size > 0)) throw UsageError("--cell-size must be > 0 (mm), got " + std::to_string(a.cell_size));
+  if (a.cell_size > a.tolerance) throw UsageError("--cell-size must be <= --tolerance");
+  return a;
+}
+
+std::string yes_no(bool b) { return b ? "yes" : "no"; }
+
+std::string report_json(const WrapArgs& a, std::size_t input_triangles, const gdm::WrapResult& r) {
+  JsonObject options, result;
+  options.add("input", json_string(a.input))
+      .add("output", json_string(a.output))
+      .add("tolerance_mm", json_number(a.tolerance))
+      .add("cell_size_mm", json_number(a.cell_size))
+      .add("coverage_rounds", json_number(a.coverage_rounds));
+  std::string notes = "[";
+  for (std::size_t i = 0; i < r.notes.size(); ++i) notes += (i ? ", " : "") + json_string(r.notes[i]);
+  notes += "]";
+  result.add("input_triangles", json_number(input_triangles))
+      .add("faces", json_number(r.report.faces))
+      .add("vertices", json_number(r.report.vertices))
+      .add("closed", json_bool(r.report.closed))
+      .add("two_manifold", json_bool(r.report.two_manifold))
+      .add("genus", json_number(r.report.genus))
+      .add("self_intersections", json_number(r.report.self_intersections))
+      .add("volume_mm3", json_number(r.report.volume))
+      .add("farthest_input_distance_mm", json_number(r.farthest_input_distance))
+      .add("farthest_wrap_distance_mm", json_number(r.farthest_wrap_distance))
+      .add("coverage_rounds_done", json_number(r.coverage_rounds_done))
+      .add("cycles", json_number(r.total_cycles))
+      .add("stop_reason", json_string(gdm::to_string(r.deform.reason)))
+      .add("notes", notes);
+  JsonObject root;
+  root.add("command", json_string("wrap")).add("options", options.str()).add("result", result.str());
+  return root.str() + "\n";
+}
+
+int run(const WrapArgs& a) {
+  std::vector<gdm::Triangle> input;
+  try {
+    input = gdm::read_triangles(a.input);
+  } catch (const gdm::Error& e) {
+    throw InputError(e.what());
+  }
+  gdm::WrapOptions o;
+  o.tolerance = a.tolerance;
+  o.cell_size = a.cell_size;
+  o.coverage_rounds = a.coverage_rounds;
+  ProgressPrinter printer(a.quiet);
+  const int stages = o.global_refinements + 1 + o.coverage_rounds;
+  const gdm::DeformObserver observer = [&](const gdm::CycleReport& c) {
+    CycleFigures f;
+    f.cycle = static_cast<std::size_t>(c.cycle);
+    f.stage = static_cast<std::size_t>(c.stage);
+    f.vertices = c.vertices;
+    f.faces = c.faces;
+    f.moving = c.moved;
+    f.progress = std::min(0.99, static_cast<double>(c.stage) / stages);
+    printer.cycle(f);
+    return true;
+  };
+  gdm::WrapResult r;
+  try {
+    r = gdm::shrink_wrap(input, o, observer);
+  } catch (const gdm::InvalidOption& e) {
+    printer.finish();
+    throw UsageError(e.what());
+  } catch (const gdm::Error& e) {
+    printer.finish();
+    throw ModelError(std::string("the wrap failed: ") + e.what());
+  }
+  printer.finish();
+  if (!a.quiet)
+    for (const auto& n : r.notes) std::cerr << "gdm wrap: " << n << "\n";
+  try {
+    gdm::write_mesh(r.mesh, a.output);
+  } catch (const gdm::Error& e) {
+    throw OutputError(e.what());
+  }
+  if (!a.report.empty()) write_text_file(report_json(a, input.size(), r), a.report);
+  const auto& m = r.report;
+  std::cout << "wrap of " << a.input << " (" << input.size() << " triangles) written to " << a.output << "\n"
+            << "  faces " << m.faces << ", vertices " << m.vertices << "\n"
+            << "  closed " << yes_no(m.closed) << ", 2-manifold " << yes_no(m.two_manifold) << ", genus " << m.genus
+            << ", self-intersections " << m.self_intersections << "\n"
+            << "  farthest input distance " << r.farthest_input_distance << " mm (tolerance " << a.tolerance
+            << " mm), farthest wrap distance " << r.farthest_wrap_distance << " mm\n";
+  if (r.farthest_input_distance > a.tolerance)
+    std::cerr << "gdm wrap: warning: some input lies farther than the tolerance from the wrap\n";
+  return exit_ok;
+}
+
+}  // namespace
+
+int wrap_command(int argc, char* argv[]) {
+  try {
+    const WrapArgs a = parse(argc, argv);
+    if (a.help) {
+      std::cout << kUsage;
+      return exit_ok;
+    }
+    return run(a);
+  } catch (const CliError& e) {
+    std::cout << std::flush;
+    std::cerr << "gdm wrap: error: " << e.what() << "\n";
+    if (e.code() == exit_usage) std::cerr << kUsage;
+    return e.code();
+  } catch (const std::bad_alloc&) {
+    std::cerr << "gdm wrap: error: out of memory\n";
+    return exit_model_failed;
+  } catch (const std::exception& e) {
+    std::cerr << "gdm wrap: internal error: " << e.what() << "\n";
+    return exit_internal;
+  }
+}
+
+}  // namespace gdm_cli
