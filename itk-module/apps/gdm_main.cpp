@@ -216,7 +216,7 @@ int run(const Options& options_in, RunRecord& record) {
   record.total_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (!options.report.empty()) write_text_file(report_json(record, options), options.report);
   try {
-    write_mesh(result.mesh, options.output);
+    gdm_cli::write_mesh(result.mesh, options.output);
   } catch (...) {
     if (!options.report.empty()) std::remove(options.report.c_str());
     throw;
@@ -250,7 +250,7 @@ CliError cli_error(const gdm::Error& e) {
 
 int main(int argc, char* argv[]) {
   using namespace gdm_cli;
-  if (argc > 1 && std::string(argv[1]) == "wrap") return wrap_main(argc - 1, argv + 1);
+  if (argc > 1 && std::string(argv[1]) == "wrap") return wrap_command(argc, argv);  // wrap_command.h
   Options options;
   try {
     options = parse_arguments(argc, argv);
