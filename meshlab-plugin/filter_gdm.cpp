@@ -3,6 +3,8 @@
 #include "filter_gdm.h"
 
 #include <exception>
+#include <stdexcept>
+#include <vector>
 
 #include "gdm/errors.h"
 #include "gdm_bridge.h"
@@ -14,30 +16,75 @@ const char *const kReference =
 	"<b>\"Geometrically Deformed Models: A Method for Extracting Closed Geometric Models from Volume Data\"</b><br>"
 	"Computer Graphics (SIGGRAPH '91), 25(4), pages 217-226.";
 
-// The deformation parameters every filter has (addWeightParameters).
-void read_model_params(const RichParameterList &par, gdm_meshlab::ModelParams &m)
+// The catalogue's options each filter offers (gdm::pipeline_option_catalogue():
+// the parameter is named as the option, its default, range and help are the
+// catalogue's, and the pipeline checks its value).
+const std::vector<const char *> kVolumeOptions = {"polarity", "smooth"};
+const std::vector<const char *> kModelOptions = {"a0", "a1", "a2", "lod_face_area", "global_refinements",
+	"max_cycles", "subvoxel_fit", "fit_smoothing", "lod_tolerance", "allow_border"};
+const std::vector<const char *> kWrapModelOptions = {"a0", "a1", "a2", "lod_face_area", "global_refinements",
+	"max_cycles"};
+
+const gdm::OptionEntry<gdm::PipelineOptions> &catalogueOption(const std::string &name)
 {
-	m.a0 = par.getFloat("a0");
-	m.a1 = par.getFloat("a1");
-	m.a2 = par.getFloat("a2");
-	m.lod_face_area = par.getFloat("LevelOfDetail");
-	m.global_refinements = par.getInt("GlobalRefinements");
-	m.max_cycles = par.getInt("MaxCycles");
+	for (const auto &o : gdm::pipeline_option_catalogue())
+		if (o.name == name) return o;
+	throw std::logic_error("no option " + name + " in the catalogue");
 }
 
-gdm_meshlab::VolumeParams volumeParams(const RichParameterList &par)
+// One parameter from the catalogue; `unit` replaces the catalogue's unit (the
+// wrap measures in grid cells, not voxels).
+void addOption(RichParameterList &par, const char *name, const QString &unit = QString())
 {
-	gdm_meshlab::VolumeParams v;
-	v.volume_file = par.getString("VolumeFile").toStdString();
-	v.auto_threshold = par.getBool("AutoThreshold");
-	v.threshold = par.getFloat("Threshold");
-	v.object_darker = par.getEnum("Polarity") == 1;
-	v.smoothing_sigma = par.getFloat("Smoothing");
-	read_model_params(par, v);
-	v.subvoxel_fit = par.getBool("SubvoxelFit");
-	v.fit_smoothing = par.getFloat("FitSmoothing");
-	v.lod_tolerance = par.getFloat("ErrorTolerance");
-	return v;
+	const auto &o = catalogueOption(name);
+	const gdm::PipelineOptions defaults;
+	const double value = o.get(defaults);
+	const QString shownUnit = unit.isEmpty() ? QString::fromStdString(o.unit) : unit;
+	QString help = QString::fromStdString(o.help);
+	help += " (" + (shownUnit.isEmpty() ? QString() : shownUnit + "; ") + QString::fromStdString(gdm::range_text(o)) +
+		"; default " + QString::fromStdString(gdm::value_text(o, value)) + ")";
+	const QString label = QString::fromStdString(o.name) + (shownUnit.isEmpty() ? QString() : " (" + shownUnit + ")");
+	switch (o.type) {
+	case gdm::OptionType::real:
+		par.addParam(RichFloat(name, static_cast<float>(value), label, help));
+		break;
+	case gdm::OptionType::integer:
+		par.addParam(RichInt(name, static_cast<int>(value), label, help));
+		break;
+	case gdm::OptionType::boolean:
+		par.addParam(RichBool(name, value != 0.0, label, help));
+		break;
+	case gdm::OptionType::choice: {
+		QStringList choices;
+		for (const auto &c : o.choices) choices << QString::fromStdString(c);
+		par.addParam(RichEnum(name, static_cast<int>(value), choices, label, help));
+		break;
+	}
+	}
+}
+
+void readOptions(const RichParameterList &par, const std::vector<const char *> &names, gdm::PipelineOptions &options)
+{
+	for (const char *name : names) {
+		const auto &o = catalogueOption(name);
+		switch (o.type) {
+		case gdm::OptionType::real: o.set(options, par.getFloat(name)); break;
+		case gdm::OptionType::integer: o.set(options, par.getInt(name)); break;
+		case gdm::OptionType::boolean: o.set(options, par.getBool(name) ? 1.0 : 0.0); break;
+		case gdm::OptionType::choice: o.set(options, par.getEnum(name)); break;
+		}
+	}
+}
+
+// What the two volume filters share: the volume, its threshold, the catalogue's options.
+gdm::PipelineOptions volumeOptions(const RichParameterList &par)
+{
+	gdm::PipelineOptions o;
+	o.threshold_otsu = par.getBool("threshold_otsu");
+	o.threshold = par.getFloat("threshold");
+	readOptions(par, kVolumeOptions, o);
+	readOptions(par, kModelOptions, o);
+	return o;
 }
 
 }  // namespace
@@ -69,8 +116,10 @@ QString FilterGdmPlugin::filterInfo(FilterIDType filterId) const
 	switch (filterId) {
 	case FP_GDM_FROM_VOLUME:
 		return QString("Extracts a closed triangle mesh of an object in a volume (MetaImage .mha/.mhd, NRRD, NIfTI "
-			"or a DICOM directory) with a Geometrically Deformed Model: a small icosahedron placed inside the object "
-			"grows until it meets the threshold, split into faces no larger than the level of detail as it goes. "
+			"or a DICOM directory) with a Geometrically Deformed Model: a seed sphere inside the object (by default at "
+			"the deepest point of the largest object region, with Otsu's threshold: the gdm command's defaults, the "
+			"same pipeline and the same mesh) grows until it meets the threshold, split into faces no larger than the "
+			"level of detail as it goes. "
 			"The result is closed, 2-manifold, of genus 0 and free of self-intersections. Each vertex stores in its "
 			"quality the deformation cycle that created it (Fig. 11 of the paper): colour by vertex quality to see it.")
 			+ kReference;
@@ -135,61 +184,16 @@ int FilterGdmPlugin::getRequirements(QAction *)
 
 void FilterGdmPlugin::addVolumeParameters(RichParameterList &par)
 {
-	par.addParam(RichString("VolumeFile", "", "Volume file",
-		"Path of the volume: a .mha, .mhd, .nrrd, .nhdr, .nii or .nii.gz file, or a directory holding one DICOM "
-		"series. Read with ITK; coordinates are physical (mm), as in the file."));
-	par.addParam(RichFloat("Threshold", 0.0f, "Threshold T",
+	par.addParam(RichString("volume_file", "", "Volume file",
+		"Path of the volume: a .mha, .mhd, .nrrd, .nhdr, .nii, .nii.gz or .vtk file, or a directory holding DICOM "
+		"series (the one with most slices). Read with ITK as the gdm command reads it; coordinates are physical (mm)."));
+	par.addParam(RichBool("threshold_otsu", true, "Otsu's threshold",
+		"Choose the threshold T by Otsu's method (256 bins) on the (smoothed) volume, as the gdm command does by "
+		"default; off: use the threshold below."));
+	par.addParam(RichFloat("threshold", 0.0f, "threshold (image units)",
 		"The intensity that separates the object from the background (T of eq. 2 in the paper), in the volume's "
-		"units (e.g. Hounsfield units for CT)."));
-	par.addParam(RichBool("AutoThreshold", false, "Threshold at mid-range",
-		"Ignore Threshold and use the midpoint between the volume's smallest and largest values."));
-	par.addParam(RichEnum("Polarity", 0, QStringList() << "Object brighter than T" << "Object darker than T",
-		"Polarity", "Which side of the threshold is the object."));
-	par.addParam(RichFloat("Smoothing", 0.0f, "Smoothing sigma (mm)",
-		"Standard deviation of a Gaussian applied to the volume before the deformation, in mm; 0 turns it off. "
-		"Helps on noisy scans."));
-}
-
-void FilterGdmPlugin::addWeightParameters(RichParameterList &par, const QString &lodUnit)
-{
-	par.addParam(RichFloat("a0", 1.0f, "a0 (deformation)",
-		"Weight of the deformation potential D (normal tracking, section 3.1.1): how strongly each vertex is "
-		"pushed along its normal. Paper's default: 1."));
-	par.addParam(RichFloat("a1", 1.0f, "a1 (image event)",
-		"Weight of the image event term I (the shifted threshold, eq. 2): how strongly the threshold stops the "
-		"model. Paper's default: 1."));
-	par.addParam(RichFloat("a2", 5.0f, "a2 (topology)",
-		"Weight of the topology term T (eq. 3): keeps the surface locally smooth and bridges gaps smaller than "
-		"the level of detail. Paper's default: 5."));
-	par.addParam(RichFloat("LevelOfDetail", 10.0f, "Level of detail (face area, " + lodUnit + ")",
-		"Faces larger than this area are split while the model deforms (section 4). Smaller values follow finer "
-		"detail with more faces. Paper's default: 10 " + lodUnit + "."));
-	par.addParam(RichInt("GlobalRefinements", 1, "Global refinements",
-		"After each convergence every face is split 1-to-4 and the model converges again, this many times "
-		"(section 6, 0 to 4)."));
-	par.addParam(RichInt("MaxCycles", 2000, "Maximum cycles",
-		"Hard limit on the number of deformation cycles, all refinements together."));
-}
-
-void FilterGdmPlugin::addAccuracyParameters(RichParameterList &par, const QString &lodUnit)
-{
-	par.addParam(RichBool("SubvoxelFit", true, "Sub-voxel final fit",
-		"Beyond the paper: after the last convergence every vertex moves along its normal onto the threshold "
-		"crossing of the trilinear field (at most 1 " + lodUnit.section('^', 0, 0) + "), every move checked "
-		"against self-intersection. Removes the quarter-voxel shortfall of the smallest step and the "
-		"curvature term's inward pull. Default: on."));
-	par.addParam(RichFloat("FitSmoothing", 0.5f, "Fit smoothing (0 = off)",
-		"Beyond the paper: noise-adaptive smoothing of the sub-voxel fit. Each vertex is also drawn toward the "
-		"quadric fitted over its two rings of neighbours, the more so the closer it stands to it compared with "
-		"this many times the image noise measured on the model: noise is smoothed away without shrinking "
-		"spheres or tubes, while edges and corners keep their data. 0 to 5; 0 follows the data alone. "
-		"Default: 0.5."));
-	par.addParam(RichFloat("ErrorTolerance", 0.0f, "Error tolerance (" + lodUnit.section('^', 0, 0) + ", 0 = off)",
-		"Beyond the paper: error-driven level of detail. Faces whose surface deviates from the threshold surface "
-		"by more than this are split; edges are collapsed where the new faces stay within half of it (few faces "
-		"on flat parts, more along edges and tight bends), keeping the mesh closed, 2-manifold, genus 0 and free "
-		"of self-intersections. E.g. 0.1 asks for at most a tenth of a " + lodUnit.section('^', 0, 0) +
-		" of error. 0 keeps the face-area level of detail only. Default: 0 (off)."));
+		"units (e.g. Hounsfield units for CT). Used when Otsu's threshold is off."));
+	for (const char *name : kVolumeOptions) addOption(par, name);
 }
 
 void FilterGdmPlugin::initParameterSet(QAction *action, MeshDocument &md, RichParameterList &par)
@@ -208,35 +212,32 @@ void FilterGdmPlugin::initParameters(QAction *action, const MeshModel *m, RichPa
 	switch (ID(action)) {
 	case FP_GDM_FROM_VOLUME:
 		addVolumeParameters(par);
-		par.addParam(RichBool("SeedAtCenter", true, "Seed at the volume's centre",
-			"Place the seed at the centre of the volume's physical extent instead of at Seed point."));
-		par.addParam(RichPoint3f("SeedPoint", Point3m(0, 0, 0), "Seed point (mm)",
-			"Centre of the seed icosahedron, in physical coordinates (mm); it must lie inside the object."));
-		par.addParam(RichFloat("SeedRadius", 3.0f, "Seed radius (mm)",
-			"Radius of the seed icosahedron (mm). The seed must touch the object's side of the threshold."));
-		addWeightParameters(par, "voxel^2");
-		addAccuracyParameters(par, "voxel^2");
+		par.addParam(RichBool("seed_automatic", true, "Automatic seed",
+			"Seed at the deepest point of the largest object region (a sphere of half its depth), as the gdm "
+			"command's --seed auto; off: a sphere at seed_point."));
+		par.addParam(RichPoint3f("seed_point", Point3m(0, 0, 0), "seed_point (mm)",
+			"Centre of the seed sphere in physical coordinates (mm) when the automatic seed is off; it must lie "
+			"inside the object."));
+		addOption(par, "seed_radius");
+		for (const char *name : kModelOptions) addOption(par, name);
 		break;
 	case FP_GDM_DEFORM_MESH:
 		addVolumeParameters(par);
-		par.addParam(RichEnum("Mode", 0, QStringList() << "Grow (the layer is inside the object)"
-			<< "Shrink (the layer encloses the object)", "Mode",
-			"Grow the layer outwards from inside the object, or shrink it onto the object from outside (section 5)."));
-		par.addParam(RichBool("NewLayer", true, "Add the result as a new layer",
+		addOption(par, "mode");
+		par.addParam(RichBool("new_layer", true, "Add the result as a new layer",
 			"Keep the current layer and add the deformed model as a new layer; otherwise replace the current layer."));
-		addWeightParameters(par, "voxel^2");
-		addAccuracyParameters(par, "voxel^2");
+		for (const char *name : kModelOptions) addOption(par, name);
 		break;
 	case FP_GDM_SHRINK_WRAP: {
 		const float diag = m != nullptr && m->cm.bbox.IsNull() == false ? m->cm.bbox.Diag() : 1.0f;
-		par.addParam(RichAbsPerc("CellSize", diag / 100.0f, 0.0f, diag / 5.0f, "Grid cell size",
+		par.addParam(RichAbsPerc("cell_size", diag / 100.0f, 0.0f, diag / 5.0f, "Grid cell size",
 			"Size of the cells of the grid on which the distance to the mesh is sampled. The level of detail is "
 			"measured in these cells. Default: 1% of the bounding box diagonal."));
-		par.addParam(RichAbsPerc("Tolerance", diag / 50.0f, 0.0f, diag / 5.0f, "Tolerance",
+		par.addParam(RichAbsPerc("tolerance", diag / 50.0f, 0.0f, diag / 5.0f, "Tolerance",
 			"Largest distance of the input from the wrap: the wrap settles at a third of this distance outside "
 			"the input (so that concave creases down to about 40 degrees stay within it) and never crosses the "
 			"input. At least the cell size. Default: 2% of the bounding box diagonal."));
-		addWeightParameters(par, "cell^2");
+		for (const char *name : kWrapModelOptions) addOption(par, name, name == std::string("lod_face_area") ? "cell^2" : QString());
 		break;
 	}
 	default: assert(0);
@@ -265,12 +266,15 @@ bool FilterGdmPlugin::applyFilter(QAction *action, MeshDocument &md, const RichP
 	try {
 		switch (ID(action)) {
 		case FP_GDM_FROM_VOLUME: {
-			gdm_meshlab::SeedParams seed;
-			seed.at_volume_centre = par.getBool("SeedAtCenter");
-			const Point3m p = par.getPoint3m("SeedPoint");
-			seed.point = gdm::Vec3(p[0], p[1], p[2]);
-			seed.radius = par.getFloat("SeedRadius");
-			const gdm::Mesh mesh = gdm_meshlab::model_from_volume(volumeParams(par), seed, progress, &log);
+			gdm::PipelineOptions options = volumeOptions(par);
+			if (!par.getBool("seed_automatic")) {
+				const Point3m p = par.getPoint3m("seed_point");
+				options.seed.kind = gdm::SeedKind::point;
+				options.seed.point = gdm::Vec3(p[0], p[1], p[2]);
+			}
+			readOptions(par, {"seed_radius"}, options);
+			const gdm::Mesh mesh = gdm_meshlab::model_from_volume(
+				par.getString("volume_file").toStdString(), options, progress, &log);
 			flushLog();
 			MeshModel *mm = md.addNewMesh("", "Geometrically Deformed Model", true);
 			mm->updateDataMask(MeshModel::MM_VERTQUALITY);
@@ -281,13 +285,15 @@ bool FilterGdmPlugin::applyFilter(QAction *action, MeshDocument &md, const RichP
 		case FP_GDM_DEFORM_MESH: {
 			MeshModel *current = md.mm();
 			if (current == nullptr) return fail("no current layer: open a closed triangle mesh to use as the seed");
-			gdm::Mesh seed = gdm_meshlab::to_gdm_seed(current->cm, &log);
-			gdm_meshlab::VolumeParams v = volumeParams(par);
-			v.shrink = par.getEnum("Mode") == 1;
-			const gdm::Mesh mesh = gdm_meshlab::deform_seed_in_volume(std::move(seed), v, progress, &log);
+			gdm::PipelineOptions options = volumeOptions(par);
+			readOptions(par, {"mode"}, options);
+			options.seed.kind = gdm::SeedKind::mesh;
+			options.seed.mesh = gdm_meshlab::to_gdm_seed(current->cm, &log);
+			const gdm::Mesh mesh = gdm_meshlab::model_from_volume(
+				par.getString("volume_file").toStdString(), options, progress, &log);
 			flushLog();
 			MeshModel *target = current;
-			if (par.getBool("NewLayer"))
+			if (par.getBool("new_layer"))
 				target = md.addNewMesh("", current->label() + " deformed", true);
 			target->updateDataMask(MeshModel::MM_VERTQUALITY);
 			gdm_meshlab::to_meshlab(mesh, target->cm);
@@ -297,17 +303,18 @@ bool FilterGdmPlugin::applyFilter(QAction *action, MeshDocument &md, const RichP
 		case FP_GDM_SHRINK_WRAP: {
 			MeshModel *current = md.mm();
 			if (current == nullptr) return fail("no current layer to wrap");
-			gdm_meshlab::ModelParams m;
-			read_model_params(par, m);
+			gdm::PipelineOptions m;
+			readOptions(par, kWrapModelOptions, m);
+			gdm::validate(m);
 			gdm::WrapOptions w;
-			w.cell_size = par.getAbsPerc("CellSize");
-			w.tolerance = par.getAbsPerc("Tolerance");
-			w.a0 = m.a0;
-			w.a1 = m.a1;
-			w.a2 = m.a2;
-			w.lod_face_area = m.lod_face_area;
-			w.global_refinements = m.global_refinements;
-			w.max_cycles = m.max_cycles;
+			w.cell_size = par.getAbsPerc("cell_size");
+			w.tolerance = par.getAbsPerc("tolerance");
+			w.a0 = m.deform.a0;
+			w.a1 = m.deform.a1;
+			w.a2 = m.deform.a2;
+			w.lod_face_area = m.deform.lod_face_area;
+			w.global_refinements = m.deform.global_refinements;
+			w.max_cycles = m.deform.max_cycles;
 			const gdm::Mesh mesh =
 				gdm_meshlab::shrink_wrap(gdm_meshlab::triangle_soup(current->cm), w, progress, &log);
 			flushLog();

@@ -30,8 +30,6 @@ public:
 private:
 	void initParameters(QAction *action, const MeshModel *m, RichParameterList &par);
 	void addVolumeParameters(RichParameterList &par);
-	void addWeightParameters(RichParameterList &par, const QString &lodUnit);
-	void addAccuracyParameters(RichParameterList &par, const QString &lodUnit);
 	bool fail(const QString &message);
 };
 

@@ -1,50 +1,14 @@
 #include "gdm_bridge.h"
 
 #include <array>
+#include <memory>
 
 #include "gdm/errors.h"
 #include "gdm/mesh_checks.h"
 #include "gdm/seed.h"
-#include "smooth_volume.h"
 #include "volume_io.h"
 
 namespace gdm_meshlab {
-namespace {
-
-struct LoadedVolume {
-  gdm::Volume volume;
-  double threshold;
-};
-
-LoadedVolume load(const VolumeParams& v, LogLines* log) {
-  std::string description;
-  gdm::Volume volume = read_volume(v.volume_file, &description);
-  log->push_back(description);
-  if (v.smoothing_sigma > 0.0) {
-    volume = smooth_volume(volume, v.smoothing_sigma);
-    log->push_back("smoothed with a Gaussian of sigma " + fmt(v.smoothing_sigma) + " mm");
-  }
-  double threshold = v.threshold;
-  if (v.auto_threshold) {
-    threshold = 0.5 * (volume.min_value() + volume.max_value());
-    log->push_back("threshold (midpoint of the value range): " + fmt(threshold));
-  }
-  return {std::move(volume), threshold};
-}
-
-gdm::DeformOptions volume_options(const VolumeParams& v, double threshold) {
-  gdm::DeformOptions o = model_options(v);
-  o.subvoxel_fit = v.subvoxel_fit;
-  o.fit_smoothing = v.fit_smoothing;
-  o.lod_tolerance = v.lod_tolerance;
-  o.threshold = threshold;
-  o.polarity = v.object_darker ? gdm::Polarity::object_darker : gdm::Polarity::object_brighter;
-  o.mode = v.shrink ? gdm::Mode::shrink : gdm::Mode::grow;
-  return o;
-}
-
-}  // namespace
-
 gdm::Mesh to_gdm_seed(const CMeshO& m, LogLines* log) {
   gdm::Mesh mesh;
   std::vector<gdm::Mesh::VertexHandle> handle(m.vert.size());
@@ -123,38 +87,22 @@ std::vector<gdm::Triangle> triangle_soup(const CMeshO& m) {
   return soup;
 }
 
-gdm::Mesh model_from_volume(const VolumeParams& v, const SeedParams& s, const Progress& progress, LogLines* log) {
+gdm::Mesh model_from_volume(const std::string& volume_file, const gdm::PipelineOptions& options,
+                            const Progress& progress, LogLines* log) {
   if (progress) progress(0, "Reading the volume");
-  LoadedVolume lv = load(v, log);
-  gdm::Vec3 centre = s.point;
-  if (s.at_volume_centre) {
-    gdm::Vec3 lo, hi;
-    lv.volume.physical_bounds(lo, hi);
-    centre = 0.5 * (lo + hi);
-  }
-  if (!(s.radius > 0.0)) throw gdm::InvalidSeed("the seed radius must be positive");
-  log->push_back("seed: icosahedron of radius " + fmt(s.radius) + " mm at (" + fmt(centre.x()) + ", " +
-                 fmt(centre.y()) + ", " + fmt(centre.z()) + ") mm");
-  gdm::Mesh mesh = gdm::make_icosahedron(centre, s.radius);
-  const gdm::DeformOptions o = volume_options(v, lv.threshold);
-  const auto result =
-      gdm::deform(mesh, lv.volume, o, observer_for(progress, 5, 99, v.global_refinements + 1, "Deforming the model"));
-  if (result.reason == gdm::StopReason::cancelled) throw gdm::Error("cancelled");
-  finish_model(result, mesh, log);
-  return mesh;
-}
-
-gdm::Mesh deform_seed_in_volume(gdm::Mesh seed, const VolumeParams& v, const Progress& progress, LogLines* log) {
-  if (progress) progress(0, "Reading the volume");
-  LoadedVolume lv = load(v, log);
-  const gdm::DeformOptions o = volume_options(v, lv.threshold);
-  log->push_back(std::string("seed: the current layer, ") + std::to_string(seed.n_faces()) + " faces, " +
-                 (v.shrink ? "shrinking onto" : "growing into") + " the object");
-  const auto result =
-      gdm::deform(seed, lv.volume, o, observer_for(progress, 5, 99, v.global_refinements + 1, "Deforming the seed"));
-  if (result.reason == gdm::StopReason::cancelled) throw gdm::Error("cancelled");
-  finish_model(result, seed, log);
-  return seed;
+  std::string description;
+  const gdm::Volume volume = read_volume(volume_file, &description);
+  log->push_back(description);
+  if (progress) progress(3, "Threshold and seed");
+  const gdm::PreparedModel prepared = gdm::prepare_model(volume, options);
+  for (const auto& line : gdm::describe_choices(prepared)) log->push_back(line);
+  const gdm::PipelineResult r = gdm::run_model(prepared, [&](const gdm::PipelineProgress& p) {
+    return !progress || progress(5 + static_cast<int>(94.0 * p.fraction), "Deforming the model");
+  });
+  if (r.deform.reason == gdm::StopReason::cancelled) throw gdm::Error("cancelled");
+  log_result(r, log);
+  gdm::require_success(r);
+  return r.mesh;
 }
 
 gdm::Mesh shrink_wrap(const std::vector<gdm::Triangle>& soup, gdm::WrapOptions w, const Progress& progress,
@@ -166,10 +114,9 @@ gdm::Mesh shrink_wrap(const std::vector<gdm::Triangle>& soup, gdm::WrapOptions w
       return progress(static_cast<int>(20 * f), "Distance field of the input");
     };
     const int refinements = w.global_refinements;
-    const gdm::DeformObserver shrinking =
-        observer_for(progress, 20, 90, refinements + 1, "Shrinking the wrap");
-    observer = [progress, shrinking, refinements](const gdm::CycleReport& r) {
-      if (r.stage <= refinements) return shrinking(r);
+    auto estimator = std::make_shared<gdm::ProgressEstimator>(refinements, w.max_cycles);
+    observer = [progress, estimator, refinements](const gdm::CycleReport& r) {
+      if (r.stage <= refinements) return progress(20 + static_cast<int>(70 * estimator->update(r)), "Shrinking the wrap");
       return progress(90 + (r.stage - refinements), "Covering the input");  // coverage round r.stage - refinements
     };
   }

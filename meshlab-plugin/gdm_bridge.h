@@ -10,7 +10,7 @@
 
 #include <common/ml_mesh_type.h>
 
-#include "gdm/deformer.h"
+#include "gdm/pipeline.h"
 #include "gdm/mesh.h"
 #include "gdm/shrink_wrap.h"
 #include "gdm/triangle_locator.h"
@@ -31,31 +31,13 @@ void to_meshlab(const gdm::Mesh& mesh, CMeshO& out);
 // as degenerate triangles (a point cloud can be wrapped too).
 std::vector<gdm::Triangle> triangle_soup(const CMeshO& m);
 
-// What the volume filters share.
-struct VolumeParams : ModelParams {
-  std::string volume_file;
-  bool auto_threshold = false;
-  double threshold = 0.0;
-  bool object_darker = false;
-  bool shrink = false;            // deform_seed_in_volume: the seed encloses the object
-  double smoothing_sigma = 0.0;  // mm, 0 = off
-  bool subvoxel_fit = true;       // final fit onto the threshold crossing
-  double fit_smoothing = 0.5;     // the fit's noise-adaptive smoothing, [0, 5]; 0 = off
-  double lod_tolerance = 0.0;     // error-driven level of detail, voxels; 0 = off
-};
-
-struct SeedParams {
-  bool at_volume_centre = true;
-  gdm::Vec3 point = gdm::Vec3::Zero();  // mm
-  double radius = 3.0;                   // mm
-};
-
-// Filter 1: a model grown from an icosahedron in the volume.
-gdm::Mesh model_from_volume(const VolumeParams& v, const SeedParams& s, const Progress& progress, LogLines* log);
-
-// Filter 2: the given seed deformed in the volume: grown from inside the
-// object, or shrunk onto it when v.shrink (the seed encloses the object).
-gdm::Mesh deform_seed_in_volume(gdm::Mesh seed, const VolumeParams& v, const Progress& progress, LogLines* log);
+// Filters 1 and 2: the core's pipeline (gdm::prepare_model + gdm::run_model,
+// gdm/pipeline.h) on a volume file read by gdm::read_volume: the code path of
+// the gdm command, so the same volume and options give the same mesh. The
+// seed is options.seed (automatic, a point, or the current layer as a mesh).
+// Throws gdm::Error with the reason, also when the model leaked or failed.
+gdm::Mesh model_from_volume(const std::string& volume_file, const gdm::PipelineOptions& options,
+                            const Progress& progress, LogLines* log);
 
 // Filter 3: the core's gdm::shrink_wrap (gdm/shrink_wrap.h) of a layer's
 // triangle soup, its progress mapped onto MeshLab's bar (distance field 0-20%,

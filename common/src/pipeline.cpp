@@ -263,6 +263,29 @@ PreparedModel prepare_model(const Volume& input, const PipelineOptions& o) {
   return p;
 }
 
+std::vector<std::string> describe_choices(const PreparedModel& p) {
+  const PipelineChoices& c = p.choices;
+  const bool darker = p.deform.polarity == Polarity::object_darker;
+  std::vector<std::string> lines;
+  lines.push_back("threshold " + num(c.threshold) + " (" + c.threshold_source + "), object " +
+                  (darker ? "darker" : "brighter") + ", mode " + (p.deform.mode == Mode::grow ? "grow" : "shrink"));
+  if (c.seed_source == "box") {
+    lines.push_back("seed: a box one voxel inside the volume (shrink mode)");
+  } else if (c.seed_source == "auto") {
+    const AutoSeed& a = c.auto_seed;
+    lines.push_back("seed: auto, centre " + point_text(a.center) + " mm (voxel " + std::to_string(a.index[0]) + ", " +
+                    std::to_string(a.index[1]) + ", " + std::to_string(a.index[2]) + "), radius " +
+                    num(c.seed_radius) + " mm; the largest of " + std::to_string(a.regions) + " object regions (" +
+                    std::to_string(a.region_voxels) + " voxels), " + num(a.depth) + " mm deep");
+  } else if (c.seed_source == "mesh") {
+    lines.push_back("seed: a mesh of " + std::to_string(c.seed_faces) + " faces" +
+                    (c.seed_reversed ? " (reversed: it pointed inwards)" : ""));
+  } else {
+    lines.push_back("seed: centre " + point_text(c.seed_center) + " mm, radius " + num(c.seed_radius) + " mm");
+  }
+  return lines;
+}
+
 ProgressEstimator::ProgressEstimator(int global_refinements, int max_cycles)
     : stages_(static_cast<double>(global_refinements + 1)), max_cycles_(static_cast<double>(max_cycles)) {}
 

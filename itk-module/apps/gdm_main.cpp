@@ -28,13 +28,6 @@
 namespace gdm_cli {
 namespace {
 
-std::string point_text(const gdm::Vec3& p) {
-  std::ostringstream s;
-  s.precision(6);
-  s << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
-  return s.str();
-}
-
 // <input name without folder and extension>-gdm.ply in the current folder.
 std::string default_output(const std::string& input) {
   std::string name = input;
@@ -76,30 +69,18 @@ void check_output_paths(const Options& o) {
     throw UsageError("--report and --output name the same file " + o.output);
 }
 
-// The choices the pipeline made before the model runs.
-std::string choices_text(const Options& o, const gdm::PreparedModel& p) {
+// The choices the pipeline made before the model runs (gdm::describe_choices).
+std::string choices_text(const Options& o, const gdm::PreparedModel& p, bool phantom_default) {
   std::ostringstream s;
   const gdm::PipelineOptions& po = o.pipeline;
   if (po.use_roi) s << "  cropped to the voxel box " << po.roi.lo[0] << "," << po.roi.lo[1] << "," << po.roi.lo[2]
                     << " to " << po.roi.hi[0] << "," << po.roi.hi[1] << "," << po.roi.hi[2] << "\n";
   if (po.smooth > 0.0) s << "  smoothed with a Gaussian of sigma " << po.smooth << " mm\n";
-  const auto& c = p.choices;
-  const bool darker = p.deform.polarity == gdm::Polarity::object_darker;
-  s << "threshold " << c.threshold << " (" << (o.threshold_given || po.threshold_otsu ? c.threshold_source : "phantom default")
-    << "), object " << (darker ? "darker" : "brighter") << ", mode "
-    << (p.deform.mode == gdm::Mode::grow ? "grow" : "shrink") << "\n";
-  if (c.seed_source == "box") {
-    s << "seed: a box one voxel inside the volume (shrink mode)\n";
-  } else if (c.seed_source == "auto") {
-    const auto& a = c.auto_seed;
-    s << "seed: auto, centre " << point_text(a.center) << " mm (voxel " << a.index[0] << ", " << a.index[1] << ", "
-      << a.index[2] << "), radius " << c.seed_radius << " mm; the largest of " << a.regions << " object regions ("
-      << a.region_voxels << " voxels), " << a.depth << " mm deep\n";
-  } else if (c.seed_source == "mesh") {
-    s << "seed: " << o.seed_mesh << ", " << c.seed_faces << " faces" << (c.seed_reversed ? " (reversed: it pointed inwards)" : "")
-      << "\n";
-  } else {
-    s << "seed: centre " << point_text(c.seed_center) << " mm, radius " << c.seed_radius << " mm\n";
+  for (std::string line : gdm::describe_choices(p)) {
+    const auto given = line.find("(given)");
+    if (phantom_default && given != std::string::npos) line.replace(given, 7, "(phantom default)");
+    if (p.choices.seed_source == "mesh" && line.rfind("seed: ", 0) == 0) line = "seed: " + o.seed_mesh + ", " + line.substr(6);
+    s << line << "\n";
   }
   return s.str();
 }
@@ -175,7 +156,7 @@ int run(const Options& options_in, RunRecord& record) {
   // Preprocessing, threshold and seed (gdm::prepare_model), then the model.
   const gdm::PreparedModel prepared = gdm::prepare_model(volume, options.pipeline);
   record_choices(prepared.choices, phantom && !options.threshold_given, record);
-  if (talk) out << choices_text(options, prepared) << std::flush;
+  if (talk) out << choices_text(options, prepared, phantom && !options.threshold_given) << std::flush;
 
   ProgressPrinter printer(options.quiet);
   gdm::PipelineResult result;

@@ -105,6 +105,10 @@ struct PreparedModel {
 // smoothing is used.
 PreparedModel prepare_model(const Volume& volume, const PipelineOptions& options);
 
+// The choices as log lines: "threshold 125 (otsu), object brighter, mode
+// grow", then the seed ("seed: auto, centre (...) mm (voxel ...), radius ...").
+std::vector<std::string> describe_choices(const PreparedModel& prepared);
+
 // Progress of a run: the cycle just done and an estimate of the fraction of
 // the work done, in [0, 1), monotone.
 struct PipelineProgress {
