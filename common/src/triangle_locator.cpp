@@ -12,6 +12,18 @@ double point_triangle_distance(const Vec3& p, const Triangle& t) {
   const Vec3& b = t[1];
   const Vec3& c = t[2];
   const Vec3 ab = b - a, ac = c - a, ap = p - a;
+  if (!(ab.cross(ac).squaredNorm() > 1e-10 * ab.squaredNorm() * ac.squaredNorm())) {
+    // A (nearly) collinear triangle, down to a point: the region tests below
+    // would be rounding noise. It is no wider than 1e-5 of its edges: the
+    // nearest of its three edges.
+    const auto segment = [&p](const Vec3& s, const Vec3& e) {
+      const Vec3 d = e - s;
+      const double len2 = d.squaredNorm();
+      const double t = len2 > 0.0 ? std::clamp((p - s).dot(d) / len2, 0.0, 1.0) : 0.0;
+      return (p - (s + t * d)).norm();
+    };
+    return std::min({segment(a, b), segment(b, c), segment(c, a)});
+  }
   const double d1 = ab.dot(ap), d2 = ac.dot(ap);
   if (d1 <= 0.0 && d2 <= 0.0) return ap.norm();
   const Vec3 bp = p - b;
@@ -38,11 +50,7 @@ double point_triangle_distance(const Vec3& p, const Triangle& t) {
     const double w = len > 0.0 ? (d4 - d3) / len : 0.0;
     return (p - (b + w * (c - b))).norm();
   }
-  const double sum = va + vb + vc;
-  if (!(std::abs(sum) > 0.0)) {
-    // Degenerate (collinear) triangle that slipped through: nearest of its edges' ends.
-    return std::min({ap.norm(), bp.norm(), cp.norm()});
-  }
+  const double sum = va + vb + vc;  // |ab x ac|^2, positive (checked above)
   const double v = vb / sum, w = vc / sum;
   return (p - (a + v * ab + w * ac)).norm();
 }

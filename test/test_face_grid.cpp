@@ -1,0 +1,166 @@
+// gdm::FaceGrid on generated triangles: for_each_near visits exactly the
+// faces whose (margin-inflated) boxes meet the query box, each once, and
+// any_near sees the same faces; both compared with a brute-force scan.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+#include <set>
+#include <vector>
+
+#include "gdm/face_grid.h"
+#include "gdm/seed.h"
+
+using namespace gdm;
+
+namespace {
+
+struct Box {
+  Vec3 lo, hi;
+};
+
+bool boxes_meet(const Box& a, const Box& b) {  // closed boxes: touching counts
+  for (int i = 0; i < 3; ++i)
+    if (a.lo[i] > b.hi[i] || a.hi[i] < b.lo[i]) return false;
+  return true;
+}
+
+// Triangles with corners on a 0.25 lattice (so that boxes often touch cell
+// boundaries and each other exactly), sizes from a point to several cells,
+// around the origin (negative cell indices too).
+std::vector<std::array<Vec3, 3>> random_triangles(std::mt19937& rng, int count) {
+  std::uniform_int_distribution<int> where(-40, 40), step(-12, 12);
+  const auto lattice = [](int i) { return 0.25 * i; };
+  std::vector<std::array<Vec3, 3>> tris;
+  for (int i = 0; i < count; ++i) {
+    const Vec3 a(lattice(where(rng)), lattice(where(rng)), lattice(where(rng)));
+    const auto corner = [&] { return a + Vec3(lattice(step(rng)), lattice(step(rng)), lattice(step(rng))); };
+    tris.push_back({a, corner(), corner()});
+  }
+  return tris;
+}
+
+Box bounds(const std::array<Vec3, 3>& t, double margin) {
+  Box b{t[0].cwiseMin(t[1]).cwiseMin(t[2]), t[0].cwiseMax(t[1]).cwiseMax(t[2])};
+  b.lo.array() -= margin;
+  b.hi.array() += margin;
+  return b;
+}
+
+Box random_query(std::mt19937& rng) {
+  std::uniform_int_distribution<int> where(-48, 48), size(0, 20);
+  Box q;
+  for (int i = 0; i < 3; ++i) {
+    q.lo[i] = 0.25 * where(rng);
+    q.hi[i] = q.lo[i] + 0.25 * size(rng);  // size 0: a flat box or a point
+  }
+  return q;
+}
+
+}  // namespace
+
+TEST(FaceGrid, for_each_near_visits_exactly_the_faces_whose_boxes_meet_the_query) {
+  std::mt19937 rng(2024);
+  for (double cell : {0.5, 1.0, 2.75, 20.0}) {
+    for (double margin : {0.0, 0.25}) {
+      const auto tris = random_triangles(rng, 500);
+      FaceGrid grid;
+      grid.reset(cell, margin);
+      std::vector<Box> boxes;
+      for (std::size_t f = 0; f < tris.size(); ++f) {
+        boxes.push_back(bounds(tris[f], margin));
+        const Box raw = bounds(tris[f], 0.0);
+        grid.insert_box(static_cast<int>(f), raw.lo, raw.hi);
+      }
+      std::size_t found_total = 0;
+      for (int i = 0; i < 400; ++i) {
+        const Box q = random_query(rng);
+        std::vector<int> expected;
+        for (std::size_t f = 0; f < boxes.size(); ++f)
+          if (boxes_meet(boxes[f], q)) expected.push_back(static_cast<int>(f));
+        std::vector<int> visited;
+        grid.for_each_near(q.lo, q.hi, [&](int f) { visited.push_back(f); });
+        std::vector<int> sorted = visited;
+        std::sort(sorted.begin(), sorted.end());
+        EXPECT_TRUE(std::adjacent_find(sorted.begin(), sorted.end()) == sorted.end())
+            << "a face visited twice; cell " << cell << " margin " << margin << " query " << i;
+        EXPECT_EQ(sorted, expected) << "cell " << cell << " margin " << margin << " query " << i;
+        found_total += expected.size();
+        for (std::size_t f = 0; f < boxes.size(); ++f)
+          EXPECT_EQ(grid.box_meets(static_cast<int>(f), q.lo, q.hi), boxes_meet(boxes[f], q));
+      }
+      EXPECT_GT(found_total, 200u);  // the queries do hit faces
+    }
+  }
+}
+
+TEST(FaceGrid, any_near_sees_the_same_faces_as_for_each_near) {
+  std::mt19937 rng(77);
+  const auto tris = random_triangles(rng, 250);
+  FaceGrid grid;
+  grid.reset(1.5, 0.25);
+  std::vector<Box> boxes;
+  for (std::size_t f = 0; f < tris.size(); ++f) {
+    boxes.push_back(bounds(tris[f], 0.25));
+    const Box raw = bounds(tris[f], 0.0);
+    grid.insert_box(static_cast<int>(f), raw.lo, raw.hi);
+  }
+  std::uniform_int_distribution<int> pick(0, static_cast<int>(tris.size()) - 1);
+  int hits = 0, misses = 0;
+  for (int i = 0; i < 500; ++i) {
+    const Box q = random_query(rng);
+    std::set<int> expected;
+    for (std::size_t f = 0; f < boxes.size(); ++f)
+      if (boxes_meet(boxes[f], q)) expected.insert(static_cast<int>(f));
+    // Every face, repeats allowed, with a test that never stops the walk.
+    std::set<int> seen;
+    EXPECT_FALSE(grid.any_near(q.lo, q.hi, [&](int f) {
+      seen.insert(f);
+      return false;
+    }));
+    EXPECT_EQ(seen, expected) << "query " << i;
+    // A test that is true for a few chosen faces: true exactly when one of them meets the box.
+    const std::set<int> chosen{pick(rng), pick(rng), pick(rng), pick(rng), pick(rng), pick(rng)};
+    bool want = false;
+    for (int f : chosen) want = want || expected.count(f) > 0;
+    const bool got = grid.any_near(q.lo, q.hi, [&](int f) { return chosen.count(f) > 0; });
+    EXPECT_EQ(got, want) << "query " << i;
+    (want ? hits : misses) += 1;
+  }
+  EXPECT_GT(hits, 0);
+  EXPECT_GT(misses, 0);
+}
+
+TEST(FaceGrid, rebuild_registers_every_mesh_face_with_the_margin) {
+  const Mesh mesh = make_geodesic_sphere(Vec3(3, -2, 1), 5.0, 2);
+  const double margin = 0.3;
+  FaceGrid grid;
+  grid.rebuild(mesh, 1.2, margin);
+  std::vector<Box> boxes;
+  for (auto f : mesh.faces()) {
+    std::array<Vec3, 3> t;
+    int k = 0;
+    for (auto v : mesh.fv_range(f)) t[k++] = to_eigen(mesh.point(v));
+    boxes.push_back(bounds(t, margin));
+  }
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> where(-4.0, 10.0), size(0.0, 2.0);
+  for (int i = 0; i < 300; ++i) {
+    Box q;
+    q.lo = Vec3(where(rng), where(rng) - 5.0, where(rng) - 3.0);
+    q.hi = q.lo + Vec3(size(rng), size(rng), size(rng));
+    std::vector<int> expected, visited;
+    for (std::size_t f = 0; f < boxes.size(); ++f)
+      if (boxes_meet(boxes[f], q)) expected.push_back(static_cast<int>(f));
+    grid.for_each_near(q.lo, q.hi, [&](int f) { visited.push_back(f); });
+    std::sort(visited.begin(), visited.end());
+    EXPECT_EQ(visited, expected) << "query " << i;
+  }
+  // A face re-registered after a move is found at its new place (and, an
+  // extra entry being harmless, possibly still at its old one).
+  const Vec3 far(100, 100, 100);
+  grid.insert_box(0, far, far + Vec3::Ones());
+  bool found = false;
+  grid.for_each_near(far, far, [&](int f) { found = found || f == 0; });
+  EXPECT_TRUE(found);
+}

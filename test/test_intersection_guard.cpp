@@ -1,0 +1,194 @@
+// gdm::IntersectionGuard on generated meshes: a move that would pierce (or
+// touch) a neighbouring face is vetoed, a harmless one is allowed, a move that
+// flips or flattens a face of the moved fan is vetoed, and every decision
+// equals a brute-force check against all faces (no grid neighbourhood) as
+// long as vertices stay within the margin between rebuilds.
+#include <gtest/gtest.h>
+
+#include <random>
+#include <vector>
+
+#include "gdm/intersection_guard.h"
+#include "gdm/predicates.h"
+#include "gdm/seed.h"
+
+using namespace gdm;
+
+namespace {
+
+constexpr double kMinArea = 1e-6;
+
+// An n x n grid of unit squares at height z (two triangles each, normal +z),
+// shifted by `shift` in x and y; returns the vertex handles row by row.
+std::vector<Mesh::VertexHandle> add_sheet(Mesh& mesh, int n, double z, double shift) {
+  std::vector<Mesh::VertexHandle> v;
+  for (int y = 0; y <= n; ++y)
+    for (int x = 0; x <= n; ++x) v.push_back(mesh.add_vertex(Mesh::Point(x + shift, y + shift, z)));
+  const auto at = [&](int x, int y) { return v[static_cast<std::size_t>(y * (n + 1) + x)]; };
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) {
+      mesh.add_face(at(x, y), at(x + 1, y), at(x + 1, y + 1));
+      mesh.add_face(at(x, y), at(x + 1, y + 1), at(x, y + 1));
+    }
+  return v;
+}
+
+std::array<Vec3, 3> corners(const Mesh& mesh, Mesh::FaceHandle f, Mesh::VertexHandle moved, const Vec3& to,
+                            std::array<int, 3>& ids) {
+  std::array<Vec3, 3> t;
+  int k = 0;
+  for (auto v : mesh.fv_range(f)) {
+    ids[k] = v.idx();
+    t[k++] = v == moved ? to : to_eigen(mesh.point(v));
+  }
+  return t;
+}
+
+// The guard's rule without its grid: every face of the moved fan keeps its
+// orientation and an area of at least kMinArea, and meets no other face of
+// the mesh improperly.
+bool brute_force_move_is_safe(const Mesh& mesh, Mesh::VertexHandle v, const Vec3& p) {
+  std::array<int, 3> ids{}, other_ids{};
+  for (auto f : mesh.vf_range(v)) {
+    const auto before = corners(mesh, f, Mesh::VertexHandle(), Vec3::Zero(), ids);
+    const auto after = corners(mesh, f, v, p, ids);
+    const Vec3 nb = (before[1] - before[0]).cross(before[2] - before[0]);
+    const Vec3 na = (after[1] - after[0]).cross(after[2] - after[0]);
+    if (0.5 * na.norm() < kMinArea || na.dot(nb) <= 0.0) return false;
+  }
+  for (auto f : mesh.vf_range(v)) {
+    const auto t = corners(mesh, f, v, p, ids);
+    for (auto g : mesh.faces()) {
+      if (g == f) continue;
+      const auto o = corners(mesh, g, v, p, other_ids);
+      if (triangles_intersect_improperly(t, ids, o, other_ids)) return false;
+    }
+  }
+  return true;
+}
+
+Mesh::VertexHandle center_of(const std::vector<Mesh::VertexHandle>& sheet, int n) {
+  return sheet[static_cast<std::size_t>((n / 2) * (n + 1) + n / 2)];
+}
+
+}  // namespace
+
+TEST(IntersectionGuard, vetoes_a_move_that_pierces_a_neighbouring_face) {
+  Mesh mesh;
+  const int n = 6;
+  const auto lower = add_sheet(mesh, n, 0.0, 0.0);
+  add_sheet(mesh, n, 1.0, 0.3);
+  IntersectionGuard guard(mesh, 0.5, kMinArea);
+  const Vec3 p = to_eigen(mesh.point(center_of(lower, n)));
+  const auto v = center_of(lower, n);
+  // Through the upper sheet: vetoed.
+  EXPECT_FALSE(guard.move_is_safe(v, p + Vec3(0, 0, 1.5)));
+  // Exactly onto the upper sheet (touching a face that shares no vertex): vetoed.
+  EXPECT_FALSE(guard.move_is_safe(v, p + Vec3(0.05, 0.05, 1.0)));
+  EXPECT_EQ(guard.statistics().rejected_moves, 2u);
+  // Up, but below the upper sheet, and down: allowed.
+  EXPECT_TRUE(guard.move_is_safe(v, p + Vec3(0, 0, 0.9)));
+  EXPECT_TRUE(guard.move_is_safe(v, p + Vec3(0.1, -0.2, -3.0)));
+  EXPECT_EQ(guard.statistics().rejected_moves, 2u);
+  EXPECT_TRUE(brute_force_move_is_safe(mesh, v, p + Vec3(0, 0, 0.9)));
+  EXPECT_FALSE(brute_force_move_is_safe(mesh, v, p + Vec3(0, 0, 1.5)));
+}
+
+TEST(IntersectionGuard, vetoes_a_move_that_flips_or_flattens_a_face_of_its_fan) {
+  Mesh mesh;
+  const int n = 4;
+  const auto sheet = add_sheet(mesh, n, 0.0, 0.0);
+  IntersectionGuard guard(mesh, 0.5, kMinArea);
+  const auto v = center_of(sheet, n);
+  const Vec3 p = to_eigen(mesh.point(v));
+  // Across its ring in the plane: faces of the fan turn over.
+  EXPECT_FALSE(guard.move_is_safe(v, p + Vec3(1.5, 0.2, 0.0)));
+  // Onto the far edge of a fan face: that face has zero area.
+  EXPECT_FALSE(guard.move_is_safe(v, p + Vec3(1.0, 0.5, 0.0)));
+  // Within the ring: allowed.
+  EXPECT_TRUE(guard.move_is_safe(v, p + Vec3(0.3, -0.2, 0.4)));
+  EXPECT_EQ(guard.statistics().rejected_moves, 2u);
+}
+
+TEST(IntersectionGuard, vetoes_a_flip_whose_new_edge_pierces_a_face) {
+  // Two faces folded into a valley along v0-v1; the flip makes a ridge along
+  // a-b. A separate thin vertical triangle stands between valley and ridge:
+  // the flip is vetoed with it and allowed without it.
+  for (bool with_obstacle : {true, false}) {
+    Mesh mesh;
+    const auto v0 = mesh.add_vertex(Mesh::Point(0, 0, 0));
+    const auto v1 = mesh.add_vertex(Mesh::Point(2, 0, 0));
+    const auto a = mesh.add_vertex(Mesh::Point(1, 1, 1));
+    const auto b = mesh.add_vertex(Mesh::Point(1, -1, 1));
+    mesh.add_face(v0, v1, a);
+    mesh.add_face(v1, v0, b);
+    if (with_obstacle)
+      mesh.add_face(mesh.add_vertex(Mesh::Point(0.95, 0, 0.2)), mesh.add_vertex(Mesh::Point(1.05, 0, 0.2)),
+                    mesh.add_vertex(Mesh::Point(1, 0, 1.5)));
+    IntersectionGuard guard(mesh, 0.1, kMinArea);
+    Mesh::EdgeHandle e;
+    for (auto h : mesh.halfedges())
+      if (!mesh.is_boundary(mesh.edge_handle(h)) && mesh.from_vertex_handle(h) != a &&
+          mesh.from_vertex_handle(h) != b && mesh.to_vertex_handle(h) != a && mesh.to_vertex_handle(h) != b)
+        e = mesh.edge_handle(h);
+    ASSERT_TRUE(e.is_valid());
+    // The resampler's quad: {from, opposite apex, to, apex} of halfedge 0.
+    const auto h0 = mesh.halfedge_handle(e, 0), h1 = mesh.halfedge_handle(e, 1);
+    const Mesh::VertexHandle quad[4] = {mesh.from_vertex_handle(h0),
+                                        mesh.to_vertex_handle(mesh.next_halfedge_handle(h1)),
+                                        mesh.to_vertex_handle(h0),
+                                        mesh.to_vertex_handle(mesh.next_halfedge_handle(h0))};
+    EXPECT_EQ(guard.flip_is_safe(e, quad), !with_obstacle) << "obstacle " << with_obstacle;
+    EXPECT_EQ(guard.statistics().rejected_flips, with_obstacle ? 1u : 0u);
+  }
+}
+
+TEST(IntersectionGuard, decisions_equal_a_brute_force_check_of_all_faces) {
+  // Random moves on two close sheets and on a sphere, each vertex kept within
+  // the margin of where it was at the last rebuild; accepted moves are applied.
+  struct Case {
+    const char* name;
+    Mesh mesh;
+    double margin;
+  };
+  std::vector<Case> cases;
+  {
+    Mesh sheets;
+    add_sheet(sheets, 5, 0.0, 0.0);
+    add_sheet(sheets, 5, 0.35, 0.4);
+    cases.push_back({"two sheets", std::move(sheets), 0.4});
+  }
+  cases.push_back({"sphere", make_geodesic_sphere(Vec3(1, 2, 3), 2.0, 2), 0.6});
+
+  std::mt19937 rng(31337);
+  for (auto& c : cases) {
+    Mesh& mesh = c.mesh;
+    IntersectionGuard guard(mesh, c.margin, kMinArea);
+    std::vector<Vec3> anchor;
+    for (auto v : mesh.vertices()) anchor.push_back(to_eigen(mesh.point(v)));
+    std::uniform_int_distribution<int> pick(0, static_cast<int>(mesh.n_vertices()) - 1);
+    std::normal_distribution<double> gauss(0.0, 1.0);
+    std::uniform_real_distribution<double> length(0.0, c.margin);
+    int accepted = 0, rejected = 0;
+    for (int i = 0; i < 3000; ++i) {
+      if (i % 150 == 0) {
+        guard.rebuild();
+        for (auto v : mesh.vertices()) anchor[static_cast<std::size_t>(v.idx())] = to_eigen(mesh.point(v));
+      }
+      const Mesh::VertexHandle v(pick(rng));
+      const Vec3 dir = Vec3(gauss(rng), gauss(rng), gauss(rng)).normalized();
+      const Vec3 p = anchor[static_cast<std::size_t>(v.idx())] + length(rng) * dir;
+      const bool safe = guard.move_is_safe(v, p);
+      ASSERT_EQ(safe, brute_force_move_is_safe(mesh, v, p)) << c.name << ", move " << i;
+      if (safe) {
+        mesh.set_point(v, to_point(p));
+        ++accepted;
+      } else {
+        ++rejected;
+      }
+    }
+    EXPECT_GT(accepted, 300) << c.name;
+    EXPECT_GT(rejected, 100) << c.name;
+    EXPECT_EQ(guard.statistics().rejected_moves, static_cast<std::size_t>(rejected)) << c.name;
+  }
+}
