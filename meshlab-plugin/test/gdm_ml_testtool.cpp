@@ -18,6 +18,7 @@
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
 
+#include "gdm/mesh_io.h"
 #include "gdm/float_snap.h"
 #include "gdm/mesh_checks.h"
 #include "gdm/obstacle.h"
@@ -272,12 +273,39 @@ int wrap(int argc, char** argv) {
 
 }  // namespace
 
+// Two mesh files hold the same mesh: the same vertices (compared as floats:
+// MeshLab stores floats, and gdm's models end on float points) in the same
+// order and the same triangles. Used to show that the gdm command and the
+// MeshLab filter give one mesh for one volume and one set of options.
+int same(const std::string& a, const std::string& b) {
+  const gdm::MeshFileData x = gdm::read_mesh_file(a);
+  const gdm::MeshFileData y = gdm::read_mesh_file(b);
+  std::cout << a << ": " << x.points.size() << " vertices, " << x.triangles.size() << " faces; " << b << ": "
+            << y.points.size() << " vertices, " << y.triangles.size() << " faces\n";
+  if (x.points.size() != y.points.size() || x.triangles.size() != y.triangles.size()) {
+    std::cerr << "different sizes\n";
+    return 1;
+  }
+  std::size_t points = 0, faces = 0;
+  for (std::size_t i = 0; i < x.points.size(); ++i)
+    for (int d = 0; d < 3; ++d)
+      if (static_cast<float>(x.points[i][d]) != static_cast<float>(y.points[i][d])) {
+        ++points;
+        break;
+      }
+  for (std::size_t f = 0; f < x.triangles.size(); ++f)
+    if (x.triangles[f] != y.triangles[f]) ++faces;
+  std::cout << points << " vertices and " << faces << " faces differ\n";
+  return points == 0 && faces == 0 ? 0 : 1;
+}
+
 int main(int argc, char** argv) {
+  if (argc >= 4 && std::string(argv[1]) == "same") return same(argv[2], argv[3]);
   if (argc >= 3 && std::string(argv[1]) == "inputs") return inputs(argv[2]);
   if (argc >= 3 && std::string(argv[1]) == "check") return check(argc, argv);
   if (argc >= 6 && std::string(argv[1]) == "wrap") return wrap(argc, argv);
   std::fprintf(stderr,
-               "usage: gdm_ml_testtool inputs <dir> | check <mesh> [checks...] | "
+               "usage: gdm_ml_testtool inputs <dir> | check <mesh> [checks...] | same <mesh> <mesh> | "
                "wrap <in> <out> <cell> <tol> [rounds]\n");
   return 2;
 }
