@@ -34,7 +34,7 @@ std::vector<std::array<Vec3, 3>> random_triangles(std::mt19937& rng, int count) 
   std::vector<std::array<Vec3, 3>> tris;
   for (int i = 0; i < count; ++i) {
     const Vec3 a(lattice(where(rng)), lattice(where(rng)), lattice(where(rng)));
-    const auto corner = [&] { return a + Vec3(lattice(step(rng)), lattice(step(rng)), lattice(step(rng))); };
+    const auto corner = [&]() -> Vec3 { return a + Vec3(lattice(step(rng)), lattice(step(rng)), lattice(step(rng))); };
     tris.push_back({a, corner(), corner()});
   }
   return tris;
