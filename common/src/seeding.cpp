@@ -195,7 +195,9 @@ AutoSeed find_auto_seed(const Volume& volume, double threshold, Polarity polarit
       for (int i = 0; i < n[0]; ++i) {
         const std::size_t c = static_cast<std::size_t>(i) + sy * static_cast<std::size_t>(j) + sz * static_cast<std::size_t>(k);
         if (!region[c] || contour[c]) continue;
-        double depth = std::sqrt(squared[c]);
+        // Rounded to float as ITK's distance map (a float image) rounds it: the
+        // seeds of earlier gdm versions (ITK's pipeline) are reproduced bit for bit.
+        double depth = static_cast<float>(std::sqrt(squared[c]));
         const int idx[3] = {i, j, k};
         for (int d = 0; d < 3; ++d) {
           const int lo = idx[d], hi = n[d] - 1 - idx[d];

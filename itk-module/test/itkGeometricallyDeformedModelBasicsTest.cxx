@@ -15,6 +15,7 @@
 #include "itkQuadEdgeMesh.h"
 #include "itkTestingMacros.h"
 
+#include "gdm/pipeline.h"
 #include "gdm/mesh_checks.h"
 #include "gdm/seed.h"
 
@@ -424,4 +425,47 @@ TEST(itkGDMBasics, SeedMeshInput)
   }
   mean /= static_cast<double>(result.n_vertices());
   EXPECT_LT(mean, 0.25);
+}
+
+// One pipeline: the filter gives the mesh gdm::extract_surface gives for the
+// same volume, seed and options (the filter's float mesh holds the model's
+// float-exact points, so they compare exactly).
+TEST(itkGDMBasics, SameMeshAsThePipeline)
+{
+  const auto image = MakeBallImage(28);
+  auto       filter = FilterType::New();
+  filter->SetInput(image);
+  filter->SetThreshold(110.0);
+  FilterType::PointType center;
+  center.Fill(13.0);
+  filter->SetSeedCenter(center);
+  filter->SetSeedRadius(2.5);
+  filter->SetLevelOfDetailFaceArea(6.0);
+  filter->SetNumberOfWorkUnits(1);
+  ASSERT_NO_THROW(filter->Update());
+  const gdm::Mesh fromFilter = itk::GDMConversion::MeshFromITKMesh(filter->GetOutput());
+
+  gdm::PipelineOptions options;
+  options.threshold_otsu = false;
+  options.threshold = 110.0;
+  options.seed.kind = gdm::SeedKind::point;
+  options.seed.point = gdm::Vec3(13.0, 13.0, 13.0);
+  options.seed.radius = 2.5;
+  options.deform.lod_face_area = 6.0;
+  options.deform.threads = 2;  // the result does not depend on it
+  const gdm::PipelineResult direct =
+    gdm::extract_surface(itk::GDMConversion::VolumeFromImage(image.GetPointer()), options);
+  ASSERT_TRUE(direct.failure.empty()) << direct.failure;
+  ASSERT_EQ(fromFilter.n_vertices(), direct.mesh.n_vertices());
+  ASSERT_EQ(fromFilter.n_faces(), direct.mesh.n_faces());
+  std::size_t different = 0;
+  for (auto v : direct.mesh.vertices())
+  {
+    if (fromFilter.point(gdm::Mesh::VertexHandle(v.idx())) != direct.mesh.point(v))
+    {
+      ++different;
+    }
+  }
+  EXPECT_EQ(different, 0u) << "of " << direct.mesh.n_vertices() << " vertices";
+  EXPECT_EQ(filter->GetNumberOfCycles(), static_cast<itk::SizeValueType>(direct.deform.cycles));
 }
