@@ -408,6 +408,20 @@ public:
   gdm::DeformOptions
   GetDeformOptions() const;
 
+  /** Sets every parameter above from the core's options (the constructor
+   * starts from gdm::DeformOptions{}, the core's defaults). */
+  void
+  SetDeformOptions(const gdm::DeformOptions & options);
+
+  /** Any option of the core's catalogue by its name (docs/options.md), e.g.
+   * SetOption("lod_tolerance", 0.1): also the options without a Set/Get of
+   * their own. Throws itk::ExceptionObject for an unknown name or a value out
+   * of the catalogue's range (booleans are 0/1, choices their index). */
+  void
+  SetOption(const std::string & name, double value);
+  double
+  GetOption(const std::string & name) const;
+
 protected:
   GeometricallyDeformedModelImageToMeshFilter();
   ~GeometricallyDeformedModelImageToMeshFilter() override = default;
@@ -457,6 +471,8 @@ private:
   double        m_LevelOfDetailMinimumAngle;
   unsigned int  m_LevelOfDetailRounds;
   bool          m_FloatExactOutput;
+  /** The core options not held in the members above (reached by SetOption). */
+  gdm::DeformOptions m_CatalogueOptions;
   PointType     m_SeedCenter;
   double        m_SeedRadius{ 0.0 };
   unsigned int  m_SeedSubdivisionLevel{ 1 };

@@ -15,6 +15,7 @@
 #include "itkGDMVolumeConversion.h"
 
 #include "gdm/errors.h"
+#include "gdm/option_catalogue.h"
 #include "gdm/pipeline.h"
 
 namespace itk
@@ -24,50 +25,99 @@ template <typename TInputImage, typename TOutputMesh>
 GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::GeometricallyDeformedModelImageToMeshFilter()
 {
   // The defaults are the core's.
-  const gdm::DeformOptions defaults;
-  m_Threshold = defaults.threshold;
-  m_Polarity = defaults.polarity == gdm::Polarity::object_darker ? PolarityEnum::ObjectDarker
-                                                                  : PolarityEnum::ObjectBrighter;
-  m_Mode = defaults.mode == gdm::Mode::shrink ? ModeEnum::Shrink : ModeEnum::Grow;
-  m_DeformationWeight = defaults.a0;
-  m_ImageEventWeight = defaults.a1;
-  m_TopologyWeight = defaults.a2;
-  m_IntensityScale = defaults.intensity_scale;
-  m_Reach = defaults.reach;
-  m_NormalRings = static_cast<unsigned int>(defaults.normal_rings);
-  m_LocalFlip = defaults.local_flip;
-  m_MinimumStep = defaults.optimizer.min_step;
-  m_MaximumStep = defaults.optimizer.max_step;
-  m_MaximumStepReductions = static_cast<unsigned int>(defaults.optimizer.max_step_reductions);
-  m_GradientStep = defaults.optimizer.gradient_step;
-  m_LevelOfDetailFaceArea = defaults.lod_face_area;
-  m_LevelOfDetailTopologyExtent = defaults.lod_topology_extent;
-  m_NumberOfGlobalRefinements = static_cast<unsigned int>(defaults.global_refinements);
-  m_MaximumNumberOfCycles = static_cast<unsigned int>(defaults.max_cycles);
-  m_ConvergenceTolerance = defaults.convergence_tolerance;
-  m_ConvergenceWindow = static_cast<unsigned int>(defaults.convergence_window);
-  m_PreventSelfIntersection = defaults.prevent_self_intersection;
-  m_ImproveTriangles = defaults.improve_triangles;
-  m_FlipMaximumDihedralAngle = defaults.flip_max_dihedral;
-  m_MaximumNumberOfFaces = static_cast<SizeValueType>(defaults.max_faces);
-  m_MaximumTopologyRatio = defaults.max_topology_ratio;
-  m_RefinementTravel = defaults.refinement_travel;
-  m_SubvoxelFit = defaults.subvoxel_fit;
-  m_NumberOfFitPasses = static_cast<unsigned int>(defaults.fit_passes);
-  m_FitMaximumDistance = defaults.fit_max_distance;
-  m_FitSmoothing = defaults.fit_smoothing;
-  m_LevelOfDetailTolerance = defaults.lod_tolerance;
-  m_LevelOfDetailMinimumAngle = defaults.lod_min_angle;
-  m_LevelOfDetailRounds = static_cast<unsigned int>(defaults.lod_rounds);
-  m_FloatExactOutput = defaults.float_exact_output;
+  this->SetDeformOptions(gdm::DeformOptions{});
   m_SeedCenter.Fill(0.0);
+}
+
+template <typename TInputImage, typename TOutputMesh>
+void
+GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::SetDeformOptions(const gdm::DeformOptions & o)
+{
+  m_CatalogueOptions = o;
+  m_Threshold = o.threshold;
+  m_Polarity = o.polarity == gdm::Polarity::object_darker ? PolarityEnum::ObjectDarker
+                                                                  : PolarityEnum::ObjectBrighter;
+  m_Mode = o.mode == gdm::Mode::shrink ? ModeEnum::Shrink : ModeEnum::Grow;
+  m_DeformationWeight = o.a0;
+  m_ImageEventWeight = o.a1;
+  m_TopologyWeight = o.a2;
+  m_IntensityScale = o.intensity_scale;
+  m_Reach = o.reach;
+  m_NormalRings = static_cast<unsigned int>(o.normal_rings);
+  m_LocalFlip = o.local_flip;
+  m_MinimumStep = o.optimizer.min_step;
+  m_MaximumStep = o.optimizer.max_step;
+  m_MaximumStepReductions = static_cast<unsigned int>(o.optimizer.max_step_reductions);
+  m_GradientStep = o.optimizer.gradient_step;
+  m_LevelOfDetailFaceArea = o.lod_face_area;
+  m_LevelOfDetailTopologyExtent = o.lod_topology_extent;
+  m_NumberOfGlobalRefinements = static_cast<unsigned int>(o.global_refinements);
+  m_MaximumNumberOfCycles = static_cast<unsigned int>(o.max_cycles);
+  m_ConvergenceTolerance = o.convergence_tolerance;
+  m_ConvergenceWindow = static_cast<unsigned int>(o.convergence_window);
+  m_PreventSelfIntersection = o.prevent_self_intersection;
+  m_ImproveTriangles = o.improve_triangles;
+  m_FlipMaximumDihedralAngle = o.flip_max_dihedral;
+  m_MaximumNumberOfFaces = static_cast<SizeValueType>(o.max_faces);
+  m_MaximumTopologyRatio = o.max_topology_ratio;
+  m_RefinementTravel = o.refinement_travel;
+  m_SubvoxelFit = o.subvoxel_fit;
+  m_NumberOfFitPasses = static_cast<unsigned int>(o.fit_passes);
+  m_FitMaximumDistance = o.fit_max_distance;
+  m_FitSmoothing = o.fit_smoothing;
+  m_LevelOfDetailTolerance = o.lod_tolerance;
+  m_LevelOfDetailMinimumAngle = o.lod_min_angle;
+  m_LevelOfDetailRounds = static_cast<unsigned int>(o.lod_rounds);
+  m_FloatExactOutput = o.float_exact_output;
+  if (o.threads > 0)
+  {
+    this->SetNumberOfWorkUnits(static_cast<ThreadIdType>(o.threads));
+  }
+  this->Modified();
+}
+
+template <typename TInputImage, typename TOutputMesh>
+void
+GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::SetOption(const std::string & name, double value)
+{
+  for (const auto & option : gdm::deform_option_catalogue())
+  {
+    if (option.name == name)
+    {
+      if (!gdm::accepts(option, value))
+      {
+        itkExceptionMacro(<< name << " must be " << gdm::range_text(option) << ", got " << value);
+      }
+      gdm::DeformOptions o = this->GetDeformOptions();
+      option.set(o, value);
+      this->SetDeformOptions(o);
+      return;
+    }
+  }
+  itkExceptionMacro(<< "no option " << name << " (see docs/options.md)");
+}
+
+template <typename TInputImage, typename TOutputMesh>
+double
+GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::GetOption(const std::string & name) const
+{
+  const gdm::DeformOptions o = this->GetDeformOptions();
+  for (const auto & option : gdm::deform_option_catalogue())
+  {
+    if (option.name == name)
+    {
+      return option.get(o);
+    }
+  }
+  itkExceptionMacro(<< "no option " << name << " (see docs/options.md)");
 }
 
 template <typename TInputImage, typename TOutputMesh>
 gdm::DeformOptions
 GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::GetDeformOptions() const
 {
-  gdm::DeformOptions o;
+  // Options without a Set/Get of their own keep the value SetOption gave them.
+  gdm::DeformOptions o = m_CatalogueOptions;
   o.mode = m_Mode == ModeEnum::Shrink ? gdm::Mode::shrink : gdm::Mode::grow;
   o.polarity = m_Polarity == PolarityEnum::ObjectDarker ? gdm::Polarity::object_darker
                                                         : gdm::Polarity::object_brighter;
@@ -250,6 +300,13 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::PrintSelf
                                                                                   Indent         indent) const
 {
   Superclass::PrintSelf(os, indent);
+  os << indent << "CatalogueOptions (every option by its catalogue name):";
+  const gdm::DeformOptions options = this->GetDeformOptions();
+  for (const auto & option : gdm::deform_option_catalogue())
+  {
+    os << " " << option.name << "=" << gdm::value_text(option, option.get(options));
+  }
+  os << std::endl;
   os << indent << "SeedMesh: " << (this->GetSeedMesh() ? "set" : "(none)") << std::endl;
   os << indent << "Threshold: " << m_Threshold << std::endl;
   os << indent << "Polarity: " << m_Polarity << std::endl;

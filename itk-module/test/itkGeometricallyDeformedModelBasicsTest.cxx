@@ -15,6 +15,7 @@
 #include "itkQuadEdgeMesh.h"
 #include "itkTestingMacros.h"
 
+#include "gdm/option_catalogue.h"
 #include "gdm/pipeline.h"
 #include "gdm/mesh_checks.h"
 #include "gdm/seed.h"
@@ -468,4 +469,28 @@ TEST(itkGDMBasics, SameMeshAsThePipeline)
   }
   EXPECT_EQ(different, 0u) << "of " << direct.mesh.n_vertices() << " vertices";
   EXPECT_EQ(filter->GetNumberOfCycles(), static_cast<itk::SizeValueType>(direct.deform.cycles));
+}
+
+// Every option of the catalogue is reachable by its name, also those without
+// a Set/Get of their own; the catalogue's range is the check.
+TEST(itkGDMBasics, OptionsByCatalogueName)
+{
+  auto filter = FilterType::New();
+  filter->SetOption("lod_tolerance", 0.1);
+  EXPECT_EQ(filter->GetLevelOfDetailTolerance(), 0.1);
+  EXPECT_EQ(filter->GetOption("lod_tolerance"), 0.1);
+  filter->SetOption("polarity", 1.0);
+  EXPECT_EQ(filter->GetPolarity(), FilterType::PolarityEnum::ObjectDarker);
+  for (const auto & option : gdm::deform_option_catalogue())
+  {
+    const double value = filter->GetOption(option.name);
+    EXPECT_TRUE(gdm::accepts(option, value)) << option.name;
+    EXPECT_NO_THROW(filter->SetOption(option.name, value)) << option.name;
+    EXPECT_EQ(filter->GetOption(option.name), value) << option.name;
+  }
+  EXPECT_THROW(filter->SetOption("lod_tolerance", 0.001), itk::ExceptionObject);
+  EXPECT_THROW(filter->SetOption("no_such_option", 1.0), itk::ExceptionObject);
+  std::ostringstream printed;
+  filter->Print(printed);
+  EXPECT_NE(printed.str().find("lod_tolerance=0.1"), std::string::npos) << printed.str();
 }
