@@ -3,15 +3,11 @@
 #include <sstream>
 
 #include "gdm/mesh_checks.h"
+#include "gdm/text.h"
 
 namespace gdm_meshlab {
 
-std::string fmt(double v) {
-  std::ostringstream s;
-  s.precision(4);
-  s << v;
-  return s.str();
-}
+std::string fmt(double v) { return gdm::format_number(v, 4); }
 
 // The pipeline ends with the model on float-representable points
 // (float_exact_output): MeshLab's float coordinates keep the no-intersection

@@ -17,19 +17,9 @@
 
 namespace {
 
-std::vector<gdm::Triangle> soup(const gdm::Mesh& mesh) {
-  std::vector<gdm::Triangle> out;
-  for (auto f : mesh.faces()) {
-    gdm::Triangle t;
-    int k = 0;
-    for (auto v : mesh.fv_range(f)) t[k++] = gdm::to_eigen(mesh.point(v));
-    out.push_back(t);
-  }
-  return out;
-}
 
 std::vector<gdm::Triangle> sphere_soup(const gdm::Vec3& centre, double radius, int level) {
-  return soup(gdm::make_geodesic_sphere(centre, radius, level));
+  return gdm::triangles_of(gdm::make_geodesic_sphere(centre, radius, level));
 }
 
 // The guarantees of a wrap of `input` with tolerance `tolerance`.
@@ -40,7 +30,7 @@ void expect_valid_wrap(const std::vector<gdm::Triangle>& input, const gdm::WrapR
   EXPECT_EQ(m.genus, 0);
   EXPECT_EQ(m.components, 1);
   EXPECT_EQ(m.self_intersections, 0u);
-  const std::vector<gdm::Triangle> wrap = soup(r.mesh);
+  const std::vector<gdm::Triangle> wrap = gdm::triangles_of(r.mesh);
   const gdm::TriangleLocator to_wrap(wrap);
   double farthest = 0.0;
   for (const auto& t : input)
@@ -72,7 +62,7 @@ TEST(ShrinkWrap, two_separate_spheres_get_one_wrap) {
 TEST(ShrinkWrap, holed_sphere_is_closed) {
   gdm::Mesh sphere = gdm::make_geodesic_sphere(gdm::Vec3(3, -2, 1), 6.0, 3);
   std::vector<gdm::Triangle> input;
-  for (const auto& t : soup(sphere))
+  for (const auto& t : gdm::triangles_of(sphere))
     if ((t[0] + t[1] + t[2]).z() / 3.0 < 1.0 + 4.5) input.push_back(t);  // the cap above z = 5.5 removed
   ASSERT_LT(input.size(), sphere.n_faces());
   const gdm::WrapResult r = gdm::shrink_wrap(input, options(0.5, 1.5));

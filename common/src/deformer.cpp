@@ -15,6 +15,7 @@
 #include "gdm/resampler.h"
 #include "gdm/seed.h"
 #include "gdm/surface_fit.h"
+#include "gdm/text.h"
 
 namespace gdm {
 
@@ -35,11 +36,7 @@ void require(bool ok, const std::string& message) {
   if (!ok) throw InvalidOption(message);
 }
 
-std::string num(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
+std::string num(double v) { return format_number(v); }
 
 double effective_intensity_scale(const DeformOptions& o, const Volume& v) {
   return o.intensity_scale > 0.0 ? o.intensity_scale : 0.01 * (v.max_value() - v.min_value());

@@ -6,18 +6,14 @@
 #include <utility>
 
 #include "gdm/errors.h"
+#include "gdm/text.h"
 
 namespace gdm {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-std::string number(double v) {
-  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
+std::string number(double v) { return format_number(v); }
 
 // Builders of the catalogue's rows. A row: name, group, unit, help, then the range.
 using Entry = OptionEntry<DeformOptions>;

@@ -6,16 +6,12 @@
 #include <sstream>
 
 #include "gdm/seed.h"
+#include "gdm/text.h"
 
 namespace gdm {
 namespace {
 
-std::string num(double v) {
-  std::ostringstream s;
-  s.precision(6);
-  s << v;
-  return s.str();
-}
+std::string num(double v) { return format_number(v); }
 
 std::string point_text(const Vec3& p) { return "(" + num(p.x()) + ", " + num(p.y()) + ", " + num(p.z()) + ")"; }
 

@@ -15,6 +15,8 @@
 #include "gdm/obstacle.h"
 #include "gdm/resampler.h"
 #include "gdm/seed.h"
+#include "gdm/option_catalogue.h"
+#include "gdm/text.h"
 #include "gdm/triangle_locator.h"
 
 namespace gdm {
@@ -22,12 +24,7 @@ namespace gdm {
 namespace {
 
 // A number with four significant digits, for the notes.
-std::string fmt(double v) {
-  std::ostringstream s;
-  s.precision(4);
-  s << v;
-  return s.str();
-}
+std::string fmt(double v) { return format_number(v, 4); }
 
 // Compacts the wrap after gdm::deform and notes the outcome.
 void finish_deformation(const DeformResult& r, Mesh& mesh, std::vector<std::string>* log) {
@@ -46,6 +43,19 @@ void finish_deformation(const DeformResult& r, Mesh& mesh, std::vector<std::stri
   log->push_back("result: " + to_string(measure(mesh)));
 }
 
+// The model's options of the wrap (its level of detail in cell^2, the rest at the core's defaults).
+DeformOptions model_options(const WrapOptions& w) {
+  DeformOptions o;
+  o.a0 = w.a0;
+  o.a1 = w.a1;
+  o.a2 = w.a2;
+  o.lod_face_area = w.lod_face_area;
+  o.global_refinements = w.global_refinements;
+  o.max_cycles = w.max_cycles;
+  o.threads = w.threads;
+  return o;
+}
+
 void validate(const std::vector<Triangle>& input, const WrapOptions& w) {
   const auto require = [](bool ok, const std::string& message) {
     if (!ok) throw InvalidOption(message);
@@ -55,26 +65,12 @@ void validate(const std::vector<Triangle>& input, const WrapOptions& w) {
   require(w.tolerance >= w.cell_size, "tolerance (" + fmt(w.tolerance) + ") must be >= cell_size (" +
                                           fmt(w.cell_size) + "): the grid cannot resolve a closer wrap");
   require(w.coverage_rounds >= 0, "coverage_rounds must be >= 0, got " + std::to_string(w.coverage_rounds));
-  require(std::isfinite(w.lod_face_area) && w.lod_face_area > 0.0,
-          "lod_face_area must be > 0 (cell^2), got " + fmt(w.lod_face_area));
-  require(w.global_refinements >= 0, "global_refinements must be >= 0, got " + std::to_string(w.global_refinements));
-  require(w.max_cycles > 0, "max_cycles must be > 0, got " + std::to_string(w.max_cycles));
-  require(w.threads >= 0, "threads must be >= 0 (0 = all cores), got " + std::to_string(w.threads));
+  // The model's options: the catalogue's ranges (lod_face_area in cell^2 here).
+  const DeformOptions model = model_options(w);
+  for (const auto& option : deform_option_catalogue()) check_option(option, option.get(model));
   require(!input.empty(), "the input is empty: nothing to wrap");
   for (const auto& t : input)
     for (const auto& p : t) require(p.allFinite(), "the input has a non-finite coordinate");
-}
-
-std::vector<Triangle> triangles_of(const gdm::Mesh& mesh) {
-  std::vector<Triangle> out;
-  out.reserve(mesh.n_faces());
-  for (auto f : mesh.faces()) {
-    Triangle t;
-    int k = 0;
-    for (auto v : mesh.fv_range(f)) t[k++] = gdm::to_eigen(mesh.point(v));
-    out.push_back(t);
-  }
-  return out;
 }
 
 // An input point far from the wrap.
@@ -193,14 +189,7 @@ WrapResult shrink_wrap(const std::vector<Triangle>& input, const WrapOptions& w,
   log->push_back("seed: geodesic sphere of radius " + fmt(radius) + " mm, " + std::to_string(mesh.n_faces()) +
                  " faces");
 
-  DeformOptions o;
-  o.a0 = w.a0;
-  o.a1 = w.a1;
-  o.a2 = w.a2;
-  o.lod_face_area = w.lod_face_area;
-  o.global_refinements = w.global_refinements;
-  o.max_cycles = w.max_cycles;
-  o.threads = w.threads;
+  DeformOptions o = model_options(w);
   o.subvoxel_fit = false;
   o.lod_tolerance = 0.0;
   o.mode = Mode::shrink;

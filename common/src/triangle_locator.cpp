@@ -6,6 +6,18 @@
 
 namespace gdm {
 
+std::vector<Triangle> triangles_of(const Mesh& mesh) {
+  std::vector<Triangle> out;
+  out.reserve(mesh.n_faces());
+  for (auto f : mesh.faces()) {
+    Triangle t;
+    int k = 0;
+    for (auto v : mesh.fv_range(f)) t[k++] = to_eigen(mesh.point(v));
+    out.push_back(t);
+  }
+  return out;
+}
+
 double point_triangle_distance(const Vec3& p, const Triangle& t) {
   // Closest point by the Voronoi regions of the vertices, edges and face.
   const Vec3& a = t[0];

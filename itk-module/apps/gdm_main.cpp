@@ -108,19 +108,10 @@ void record_choices(const gdm::PipelineChoices& c, bool phantom_default, RunReco
 }
 
 void record_model(const gdm::PipelineResult& r, RunRecord& record) {
-  ModelStats& m = record.model;
-  m.stop_reason = gdm::to_string(r.deform.reason);
-  m.cycles = static_cast<std::size_t>(r.deform.cycles);
-  m.refinements = static_cast<std::size_t>(r.deform.global_refinements);
-  m.rejected_moves = r.deform.rejected_moves;
-  m.flips = r.deform.flips;
-  m.border_vertices = r.deform.border_vertices;
-  m.fit_moves = r.deform.fit_moves;
-  m.lod_splits = r.deform.lod_splits;
-  m.lod_collapses = r.deform.lod_collapses;
-  m.float_refused = r.deform.float_refused;
-  m.seconds = r.seconds;
-  record.mesh = mesh_figures(r.mesh, r.report);
+  record.model = r.deform;
+  record.model_seconds = r.seconds;
+  record.mesh = r.report;
+  record_extent(r.mesh, record);
 }
 
 int run(const Options& options_in, RunRecord& record) {

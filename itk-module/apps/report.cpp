@@ -22,33 +22,19 @@ std::string vec(const std::array<double, 3>& v, int digits) {
 
 }  // namespace
 
-MeshFigures mesh_figures(const gdm::Mesh& mesh, const gdm::MeshReport& r) {
-  MeshFigures out;
-  out.vertices = r.vertices;
-  out.faces = r.faces;
-  out.edges = r.edges;
-  out.closed = r.closed;
-  out.manifold = r.two_manifold;
-  out.euler = r.euler;
-  out.genus = r.genus;
-  out.components = r.components;
-  out.self_intersections = r.self_intersections;
-  out.volume_mm3 = r.volume;
-  out.area_mm2 = r.area;
-  out.min_angle_deg = r.min_angle_deg;
+void record_extent(const gdm::Mesh& mesh, RunRecord& record) {
   bool first = true;
   for (auto v : mesh.vertices()) {
     const auto& p = mesh.point(v);
     for (int d = 0; d < 3; ++d) {
-      out.low[d] = first ? p[d] : std::min(out.low[d], p[d]);
-      out.high[d] = first ? p[d] : std::max(out.high[d], p[d]);
+      record.low[d] = first ? p[d] : std::min(record.low[d], p[d]);
+      record.high[d] = first ? p[d] : std::max(record.high[d], p[d]);
     }
     first = false;
   }
   const auto generation = gdm::find_generation_property(mesh);
   if (generation.is_valid())
-    for (auto v : mesh.vertices()) out.max_generation = std::max(out.max_generation, mesh.property(generation, v));
-  return out;
+    for (auto v : mesh.vertices()) record.max_generation = std::max(record.max_generation, mesh.property(generation, v));
 }
 
 std::string input_text(const InputInfo& in) {
@@ -63,10 +49,10 @@ std::string input_text(const InputInfo& in) {
 }
 
 std::string summary_text(const RunRecord& r) {
-  const MeshFigures& m = r.mesh;
+  const gdm::MeshReport& m = r.mesh;
   std::ostringstream s;
   s << "model: " << m.vertices << " vertices, " << m.faces << " faces, " << r.model.cycles << " cycles ("
-    << r.model.stop_reason << "), " << r.model.refinements << " global refinement(s)\n";
+    << gdm::to_string(r.model.reason) << "), " << r.model.global_refinements << " global refinement(s)\n";
   // The final stages, when they did anything.
   std::string finish;
   const auto part = [&](std::size_t n, const char* what) {
@@ -77,12 +63,12 @@ std::string summary_text(const RunRecord& r) {
   part(r.model.lod_collapses, "lod collapses");
   part(r.model.float_refused, "vertices not float-exact");
   if (!finish.empty()) s << "  after convergence: " << finish << "\n";
-  s << "  closed " << (m.closed ? "yes" : "NO") << ", manifold " << (m.manifold ? "yes" : "NO") << ", genus "
+  s << "  closed " << (m.closed ? "yes" : "NO") << ", manifold " << (m.two_manifold ? "yes" : "NO") << ", genus "
     << m.genus << ", components " << m.components << ", self-intersections " << m.self_intersections << "\n"
-    << "  volume " << fixed(m.volume_mm3, 1) << " mm^3 = " << fixed(m.volume_mm3 / 1000.0, 3) << " ml, area "
-    << fixed(m.area_mm2, 1) << " mm^2\n"
-    << "  extent " << vec(m.low, 2) << " to " << vec(m.high, 2) << " mm\n"
-    << "  time " << fixed(r.model.seconds, 2) << " s model, " << fixed(r.total_seconds, 2) << " s total\n";
+    << "  volume " << fixed(m.volume, 1) << " mm^3 = " << fixed(m.volume / 1000.0, 3) << " ml, area "
+    << fixed(m.area, 1) << " mm^2\n"
+    << "  extent " << vec(r.low, 2) << " to " << vec(r.high, 2) << " mm\n"
+    << "  time " << fixed(r.model_seconds, 2) << " s model, " << fixed(r.total_seconds, 2) << " s total\n";
   if (!r.output.empty()) s << "wrote " << r.output << "\n";
   return s.str();
 }
@@ -116,9 +102,9 @@ std::string report_json(const RunRecord& r, const Options& options) {
   }
 
   JsonObject model;
-  model.add("stop_reason", r.model.stop_reason.empty() ? "null" : json_string(r.model.stop_reason))
+  model.add("stop_reason", r.model.cycles == 0 ? "null" : json_string(gdm::to_string(r.model.reason)))
       .add("cycles", json_number(r.model.cycles))
-      .add("global_refinements", json_number(r.model.refinements))
+      .add("global_refinements", json_number(r.model.global_refinements))
       .add("rejected_moves", json_number(r.model.rejected_moves))
       .add("flips", json_number(r.model.flips))
       .add("border_vertices", json_number(r.model.border_vertices))
@@ -126,26 +112,26 @@ std::string report_json(const RunRecord& r, const Options& options) {
       .add("lod_splits", json_number(r.model.lod_splits))
       .add("lod_collapses", json_number(r.model.lod_collapses))
       .add("float_refused", json_number(r.model.float_refused))
-      .add("seconds", json_number(r.model.seconds));
+      .add("seconds", json_number(r.model_seconds));
 
-  const MeshFigures& m = r.mesh;
+  const gdm::MeshReport& m = r.mesh;
   JsonObject mesh;
   mesh.add("vertices", json_number(m.vertices))
       .add("faces", json_number(m.faces))
       .add("edges", json_number(m.edges))
       .add("closed", json_bool(m.closed))
-      .add("manifold", json_bool(m.manifold))
+      .add("manifold", json_bool(m.two_manifold))
       .add("euler_characteristic", json_number(m.euler))
       .add("genus", json_number(m.genus))
       .add("components", json_number(m.components))
       .add("self_intersections", json_number(m.self_intersections))
-      .add("volume_mm3", json_number(m.volume_mm3))
-      .add("volume_ml", json_number(m.volume_mm3 / 1000.0))
-      .add("area_mm2", json_number(m.area_mm2))
+      .add("volume_mm3", json_number(m.volume))
+      .add("volume_ml", json_number(m.volume / 1000.0))
+      .add("area_mm2", json_number(m.area))
       .add("min_angle_deg", json_number(m.min_angle_deg))
-      .add("bounds_min_mm", json_array(m.low))
-      .add("bounds_max_mm", json_array(m.high))
-      .add("max_generation", json_number(m.max_generation));
+      .add("bounds_min_mm", json_array(r.low))
+      .add("bounds_max_mm", json_array(r.high))
+      .add("max_generation", json_number(r.max_generation));
 
   JsonObject root;
   root.add("program", json_string("gdm"))

@@ -10,10 +10,8 @@
 
 namespace gdm_cli {
 
-// The figures of the report: gdm::measure()'s (closed, manifold, genus,
-// components, self-intersections, volume, area), the bounding box and the
-// largest vertex generation.
-MeshFigures mesh_figures(const gdm::Mesh& mesh, const gdm::MeshReport& measured);
+// Records the model's bounding box and largest vertex generation.
+void record_extent(const gdm::Mesh& mesh, RunRecord& record);
 
 // The input lines printed after reading (dimensions, spacing, value range).
 std::string input_text(const InputInfo& input);

@@ -161,16 +161,6 @@ int inputs(const std::string& dir) {
   return 0;
 }
 
-std::vector<gdm::Triangle> soup(const gdm::Mesh& mesh) {
-  std::vector<gdm::Triangle> out;
-  for (auto f : mesh.faces()) {
-    gdm::Triangle t;
-    int k = 0;
-    for (auto v : mesh.fv_range(f)) t[k++] = gdm::to_eigen(mesh.point(v));
-    out.push_back(t);
-  }
-  return out;
-}
 
 int check(int argc, char** argv) {
   const std::string path = argv[2];
@@ -214,7 +204,7 @@ int check(int argc, char** argv) {
       const double tol = std::atof(argv[++i]);
       gdm::Mesh input;
       if (!OpenMesh::IO::read_mesh(input, input_path)) { expect(false, "read " + input_path); continue; }
-      const gdm::TriangleLocator wrap(soup(mesh));
+      const gdm::TriangleLocator wrap(gdm::triangles_of(mesh));
       double worst = 0.0;
       for (auto v : input.vertices()) worst = std::max(worst, wrap.distance(gdm::to_eigen(input.point(v))));
       char buf[200];
@@ -229,9 +219,9 @@ int check(int argc, char** argv) {
       if (!OpenMesh::IO::read_mesh(input, input_path)) { expect(false, "read " + input_path); continue; }
       for (auto v : input.vertices())
         input.set_point(v, gdm::to_point(gdm::round_to_float(gdm::to_eigen(input.point(v)))));
-      const gdm::Obstacle obstacle(soup(input));
+      const gdm::Obstacle obstacle(gdm::triangles_of(input));
       std::size_t touching = 0;
-      for (const auto& t : soup(mesh)) touching += obstacle.blocks(t) ? 1 : 0;
+      for (const auto& t : gdm::triangles_of(mesh)) touching += obstacle.blocks(t) ? 1 : 0;
       expect(touching == 0, "no face of the wrap touches the input (" + std::to_string(touching) + " do)");
     } else {
       std::printf("FAIL unknown check %s\n", a.c_str());
@@ -258,7 +248,7 @@ int wrap(int argc, char** argv) {
   const auto start = std::chrono::steady_clock::now();
   gdm::Mesh mesh;
   try {
-    gdm::WrapResult r = gdm::shrink_wrap(soup(input), w);
+    gdm::WrapResult r = gdm::shrink_wrap(gdm::triangles_of(input), w);
     log = std::move(r.notes);
     mesh = std::move(r.mesh);
   } catch (const std::exception& e) {

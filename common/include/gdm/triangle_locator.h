@@ -11,6 +11,9 @@ namespace gdm {
 
 using Triangle = std::array<Vec3, 3>;
 
+// The faces of a mesh as a triangle soup (deleted faces skipped).
+std::vector<Triangle> triangles_of(const Mesh& mesh);
+
 // Distance from p to the closest point of t (degenerate triangles, down to
 // single points, are handled).
 double point_triangle_distance(const Vec3& p, const Triangle& t);
