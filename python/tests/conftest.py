@@ -90,3 +90,30 @@ def read_metaimage(path):
     spacing = tuple(float(x) for x in header.get("ElementSpacing", "1 1 1").split())
     origin = tuple(float(x) for x in header.get("Offset", "0 0 0").split())
     return array, spacing, origin
+
+
+def icosphere(center, radius, level=1):
+    """A geodesic sphere (20 * 4**level faces, outward), as (vertices, faces)."""
+    t = (1 + 5 ** 0.5) / 2
+    v = [[-1, t, 0], [1, t, 0], [-1, -t, 0], [1, -t, 0], [0, -1, t], [0, 1, t], [0, -1, -t], [0, 1, -t],
+         [t, 0, -1], [t, 0, 1], [-t, 0, -1], [-t, 0, 1]]
+    f = [[0, 11, 5], [0, 5, 1], [0, 1, 7], [0, 7, 10], [0, 10, 11], [1, 5, 9], [5, 11, 4], [11, 10, 2], [10, 7, 6],
+         [7, 1, 8], [3, 9, 4], [3, 4, 2], [3, 2, 6], [3, 6, 8], [3, 8, 9], [4, 9, 5], [2, 4, 11], [6, 2, 10],
+         [8, 6, 7], [9, 8, 1]]
+    v = [list(np.asarray(p) / np.linalg.norm(p)) for p in v]
+    for _ in range(level):
+        cache, nf = {}, []
+
+        def mid(a, b):
+            key = (min(a, b), max(a, b))
+            if key not in cache:
+                m = (np.asarray(v[a]) + np.asarray(v[b])) / 2
+                v.append(list(m / np.linalg.norm(m)))
+                cache[key] = len(v) - 1
+            return cache[key]
+
+        for a, b, c in f:
+            ab, bc, ca = mid(a, b), mid(b, c), mid(c, a)
+            nf += [[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]
+        f = nf
+    return np.asarray(center, float) + radius * np.asarray(v), np.asarray(f, dtype=np.int32)
