@@ -55,23 +55,32 @@ def test_an_exception_in_the_callback_propagates(big_ball):
         gdm.extract_surface(big_ball, threshold=50, seed_radius=2.0, progress=progress)
 
 
-def test_ctrl_c_cancels_cleanly(big_ball):
+def test_ctrl_c_cancels_cleanly():
     """SIGINT while the model deforms (no callback): KeyboardInterrupt once the
-    current cycle ends, then the module works again."""
+    current cycle ends, then the module works again. (The deformation cycles of
+    this model run from about 0.1 s to 1 s; the final fit after them, about
+    1 s more, has no cycles and is not interrupted.)"""
+    big_ball, _ = sphere(96, radius=44.0)
     if threading.current_thread() is not threading.main_thread():
         pytest.skip("signals reach the main thread only")
-    timer = threading.Timer(0.3, lambda: os.kill(os.getpid(), signal.SIGINT))
-    start = time.monotonic()
+    sent = []
+
+    def interrupt():
+        sent.append(time.monotonic())
+        os.kill(os.getpid(), signal.SIGINT)
+
+    timer = threading.Timer(0.35, interrupt)
     timer.start()
     with pytest.raises(KeyboardInterrupt):
         gdm.extract_surface(big_ball, threshold=50, seed_radius=2.0, threads=1)
-    elapsed = time.monotonic() - start
+    latency = time.monotonic() - sent[0]
     timer.join()
     full_start = time.monotonic()
     r = gdm.extract_surface(big_ball, threshold=50, seed_radius=2.0, threads=1)
     full = time.monotonic() - full_start
     assert r.report["mesh"]["closed"]
-    assert elapsed < 0.75 * full, (elapsed, full)  # stopped early, not at the end
+    # stopped within a few cycles of the signal, not at the end of the model (about 50 cycles)
+    assert latency < 0.3 * full, (latency, full)
 
 
 def test_gil_is_released_while_the_model_deforms(big_ball):
