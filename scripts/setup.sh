@@ -12,6 +12,7 @@ packages=(
   libeigen3-dev libgtest-dev libgmock-dev libbenchmark-dev libopenmesh-dev
   libinsighttoolkit5-dev libfftw3-dev libgdcm-tools libvtk9-dev libcgal-dev
   meshlab qtbase5-dev libqt5opengl5-dev libglew-dev xvfb xauth dpkg-dev
+  python3 python3-dev pybind11-dev python3-numpy python3-pytest python3-nibabel python3-meshio
 )
 
 sudo_cmd=()

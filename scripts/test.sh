@@ -13,7 +13,24 @@ bash "$here/scripts/setup.sh"
 echo "== build (Release)"
 bash "$here/scripts/build.sh"
 echo "== tests (Release)"
-ctest --test-dir "$here/build" --output-on-failure -j "$jobs" --timeout 900
+ctest --test-dir "$here/build" --output-on-failure -j "$jobs" --timeout 900 -E '^gdm_python$'
+
+echo "== Python module (pytest)"
+if [ -d "$here/build/python/gdm" ]; then
+  # Debian's interpreter: the one the module and python3-numpy are built for.
+  set +e
+  PYTHONPATH="$here/build/python" /usr/bin/python3 -m pytest -q -rs -p no:cacheprovider "$here/python/tests"
+  status=$?
+  set -e
+  if [ "$status" = 5 ]; then
+    echo "pytest collected no test in python/tests: the Python tests are missing" >&2
+    exit 1
+  elif [ "$status" != 0 ]; then
+    exit "$status"
+  fi
+else
+  echo "skipped: the Python module was not built (pybind11-dev or python3-dev missing, or -DGDM_BUILD_PYTHON=OFF)"
+fi
 
 echo "== ITK module built as an ITK external module (ITK's module machinery)"
 bash "$here/itk-module/scripts/build-external.sh" "$here/build-itk-external"

@@ -1,0 +1,153 @@
+"""Axis order, physical space, layouts and dtypes."""
+import numpy as np
+import pytest
+
+import gdm
+from conftest import MRI_T1, PHANTOM, need, read_metaimage, sphere
+
+
+def rotation(axis, degrees):
+    axis = np.asarray(axis, float) / np.linalg.norm(axis)
+    a = np.radians(degrees)
+    k = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
+    return np.eye(3) + np.sin(a) * k + (1 - np.cos(a)) * k @ k
+
+
+def test_axis_order_is_itks(tmp_path):
+    """read_image's array is ITK's buffer (x fastest) viewed as [i, j, k]: the
+    MetaImage's bytes in Fortran order, and ITK's GetArrayFromImage ([k, j, i]) transposed."""
+    array, spacing, origin, direction = gdm.read_image(PHANTOM)
+    raw, raw_spacing, raw_origin = read_metaimage(PHANTOM)
+    assert array.shape == (96, 96, 24) and array.dtype == np.float32
+    assert array.flags.f_contiguous and not array.flags.owndata  # ITK's own buffer, no copy
+    assert np.array_equal(array, raw.astype(np.float32))
+    assert spacing == raw_spacing == (0.5, 0.5, 2.0) and origin == raw_origin
+    itk_view = np.ascontiguousarray(array.T)  # what itk.GetArrayFromImage gives: [k, j, i], C order
+    assert itk_view.shape == (24, 96, 96) and np.array_equal(itk_view.T, array)
+    assert np.array_equal(direction, np.eye(3))
+
+
+def test_axis_order_is_nibabels(tmp_path):
+    """nibabel's get_fdata() is [i, j, k] too: a NIfTI written by nibabel reads
+    back as the same array; its RAS affine is ITK's LPS geometry with x and y negated."""
+    nib = pytest.importorskip("nibabel")
+    values = np.arange(5 * 6 * 7, dtype=np.int16).reshape(5, 6, 7) * 3 - 40
+    r = rotation((1, 2, 3), 30)
+    spacing = np.array([0.8, 1.1, 2.5])
+    affine = np.eye(4)
+    affine[:3, :3] = r * spacing
+    affine[:3, 3] = [-10.0, 4.0, 25.0]
+    path = tmp_path / "small.nii.gz"
+    nib.save(nib.Nifti1Image(values, affine), str(path))
+    img = nib.load(str(path))
+    array, sp, org, direction = gdm.read_image(path)
+    assert np.array_equal(array, img.get_fdata())
+    assert np.allclose(sp, img.header.get_zooms(), atol=1e-6)
+    lps_to_ras = np.diag([-1.0, -1.0, 1.0])
+    itk_affine = np.eye(4)
+    itk_affine[:3, :3] = np.asarray(direction) * np.asarray(sp)
+    itk_affine[:3, 3] = org
+    assert np.allclose(np.diag([-1, -1, 1, 1]) @ itk_affine, img.affine, atol=1e-4)
+    # from_affine: nibabel's geometry for extract_surface (the mesh is then in RAS)
+    s2, o2, d2 = gdm.from_affine(img.affine)
+    assert np.allclose(s2, sp, atol=1e-5) and np.allclose(o2, lps_to_ras @ np.asarray(org), atol=1e-4)
+    assert np.allclose(d2, lps_to_ras @ direction, atol=1e-5)
+
+
+def test_mri_t1_same_array_as_nibabel():
+    need(MRI_T1, "the T1 MRI head (../shared/data/mri-head-t1/chris_t1.nii.gz)")
+    nib = pytest.importorskip("nibabel")
+    img = nib.load(str(MRI_T1))
+    array, spacing, origin, direction = gdm.read_image(MRI_T1)
+    data = img.get_fdata()
+    assert array.shape == data.shape
+    assert np.allclose(array, data, rtol=1e-6, atol=1e-3)
+    itk_affine = np.eye(4)
+    itk_affine[:3, :3] = np.asarray(direction) * np.asarray(spacing)
+    itk_affine[:3, 3] = origin
+    assert np.allclose(np.diag([-1, -1, 1, 1]) @ itk_affine, img.affine, atol=1e-3)
+
+
+def check_ball(result, center, radius, voxel):
+    distance = np.linalg.norm(result.vertices - center, axis=1)
+    assert abs(distance.mean() - radius) < 0.15 * voxel, distance.mean()
+    assert np.abs(distance - radius).max() < 0.6 * voxel
+    m = result.report["mesh"]
+    assert m["closed"] and m["manifold"] and m["genus"] == 0 and m["self_intersections"] == 0
+    assert abs(m["volume_mm3"] / (4 / 3 * np.pi * radius**3) - 1) < 0.03
+    # the solid's centroid (signed tetrahedra from the origin): the ball's centre
+    a, b, c = (result.vertices[result.faces[:, k]] for k in range(3))
+    tet = np.einsum("ij,ij->i", a, np.cross(b, c)) / 6.0
+    centroid = ((a + b + c) * tet[:, None]).sum(axis=0) / (4.0 * tet.sum())
+    assert np.allclose(centroid, center, atol=0.1 * voxel), (centroid, center)
+
+
+@pytest.mark.parametrize("rotated", [False, True])
+def test_anisotropic_rotated_ball_in_physical_space(rotated):
+    """A ball of radius 9 mm off the volume's centre, sampled with spacing
+    (0.7, 1.0, 1.6) mm, a rotated direction and an origin far from 0: the mesh
+    is the ball in mm, where the direction puts it."""
+    spacing = (0.7, 1.0, 1.6)
+    direction = rotation((1, -2, 0.5), 35) if rotated else np.eye(3)
+    origin = (-20.0, 5.0, 30.0)
+    dims = (50, 36, 24)
+    center_index = np.array([26.0, 17.5, 12.0])
+    center = np.asarray(origin) + direction @ (np.asarray(spacing) * center_index)
+    volume, _ = sphere(dims, radius=9.0, spacing=spacing, origin=origin, direction=direction, center=center)
+    result = gdm.extract_surface(volume, spacing, origin, direction, threshold=50)
+    check_ball(result, center, 9.0, voxel=0.7)
+    assert result.report["input"]["spacing_mm"] == list(spacing)
+
+
+def test_direction_is_column_per_axis():
+    """Column k of direction is axis k: a swap of two columns with the array's
+    axes swapped is the same physical object and the same mesh."""
+    spacing = (0.8, 1.0, 1.3)
+    volume, center = sphere((30, 26, 22), radius=7.0, spacing=spacing)
+    a = gdm.extract_surface(volume, spacing, (0, 0, 0), np.eye(3), threshold=50, seed=tuple(center))
+    swapped = np.asfortranarray(volume.transpose(1, 0, 2))
+    direction = np.eye(3)[:, [1, 0, 2]]  # axis 0 of the new array runs along y
+    b = gdm.extract_surface(swapped, (1.0, 0.8, 1.3), (0, 0, 0), direction, threshold=50, seed=tuple(center))
+    check_ball(a, center, 7.0, 0.8)
+    check_ball(b, center, 7.0, 0.8)
+    assert abs(a.report["mesh"]["volume_mm3"] - b.report["mesh"]["volume_mm3"]) < 0.01 * a.report["mesh"]["volume_mm3"]
+
+
+def test_layouts_and_dtypes_give_the_same_mesh():
+    base, _ = sphere(28, radius=8.0)
+    integer = np.asfortranarray(np.round(base).astype(np.int16))
+    reference = gdm.extract_surface(integer.astype(np.float32), threshold=50)
+    variants = {
+        "int16 F": integer,
+        "int16 C": np.ascontiguousarray(integer),
+        "int32": integer.astype(np.int32),
+        "int64 C": np.ascontiguousarray(integer, dtype=np.int64),
+        "uint8": integer.astype(np.uint8),
+        "uint16": integer.astype(np.uint16),
+        "float64 F": integer.astype(np.float64, order="F"),
+        "float16": integer.astype(np.float16),
+        "longdouble": integer.astype(np.longdouble),
+        "big-endian float32": integer.astype(">f4"),
+        "strided view": np.asfortranarray(np.repeat(integer, 2, axis=0))[::2],
+        "list": integer.tolist(),
+    }
+    for name, array in variants.items():
+        r = gdm.extract_surface(array, threshold=50)
+        assert np.array_equal(r.vertices, reference.vertices), name
+        assert np.array_equal(r.faces, reference.faces), name
+    assert gdm.extract_surface(integer > 50, threshold=0.5).report["mesh"]["closed"]  # bool
+
+
+def test_generation_and_report():
+    volume, center = sphere(30, radius=9.0)
+    r = gdm.extract_surface(volume, threshold=50, lod_face_area=6, global_refinements=0)
+    assert r.generation.dtype == np.int32 and r.generation.shape == (len(r.vertices),)
+    assert r.generation.max() == r.report["mesh"]["max_generation"] > 0
+    p = r.report["parameters"]
+    assert p["lod_face_area"] == 6.0 and p["global_refinements"] == 0 and p["polarity"] == "bright"
+    assert p["subvoxel_fit"] is True and p["seed"] == "auto" and p["threshold"] == 50
+    assert set(o["name"] for o in gdm.options()) <= set(p)
+    assert r.report["threshold"] == {"value": 50.0, "source": "given"}
+    assert r.report["model"]["stop_reason"] == "converged"
+    otsu = gdm.extract_surface(volume)
+    assert otsu.report["threshold"]["source"] == "otsu"
