@@ -3,10 +3,12 @@
 #include "filter_gdm.h"
 
 #include <exception>
+#include <map>
 #include <stdexcept>
 #include <vector>
 
 #include "gdm/errors.h"
+#include "filter_parameters.h"
 #include "gdm_bridge.h"
 
 namespace {
@@ -16,14 +18,18 @@ const char *const kReference =
 	"<b>\"Geometrically Deformed Models: A Method for Extracting Closed Geometric Models from Volume Data\"</b><br>"
 	"Computer Graphics (SIGGRAPH '91), 25(4), pages 217-226.";
 
-// The catalogue's options each filter offers (gdm::pipeline_option_catalogue():
-// the parameter is named as the option, its default, range and help are the
-// catalogue's, and the pipeline checks its value).
-const std::vector<const char *> kVolumeOptions = {"polarity", "smooth"};
-const std::vector<const char *> kModelOptions = {"a0", "a1", "a2", "lod_face_area", "global_refinements",
-	"max_cycles", "subvoxel_fit", "fit_smoothing", "lod_tolerance", "allow_border"};
-const std::vector<const char *> kWrapModelOptions = {"a0", "a1", "a2", "lod_face_area", "global_refinements",
-	"max_cycles"};
+using gdm_meshlab::Filter;
+using gdm_meshlab::FilterParam;
+using gdm_meshlab::ParamKind;
+
+Filter filterOf(int id)
+{
+	switch (id) {
+	case FilterGdmPlugin::FP_GDM_FROM_VOLUME: return Filter::from_volume;
+	case FilterGdmPlugin::FP_GDM_DEFORM_MESH: return Filter::deform_mesh;
+	default: return Filter::shrink_wrap;
+	}
+}
 
 const gdm::OptionEntry<gdm::PipelineOptions> &catalogueOption(const std::string &name)
 {
@@ -32,28 +38,20 @@ const gdm::OptionEntry<gdm::PipelineOptions> &catalogueOption(const std::string 
 	throw std::logic_error("no option " + name + " in the catalogue");
 }
 
-// One parameter from the catalogue; `unit` replaces the catalogue's unit (the
-// wrap measures in grid cells, not voxels).
-void addOption(RichParameterList &par, const char *name, const QString &unit = QString())
+// A catalogue option as a parameter: its name, default, range and help.
+void addOption(RichParameterList &par, const FilterParam &p)
 {
-	const auto &o = catalogueOption(name);
-	const gdm::PipelineOptions defaults;
-	const double value = o.get(defaults);
-	const QString shownUnit = unit.isEmpty() ? QString::fromStdString(o.unit) : unit;
-	QString help = QString::fromStdString(o.help);
-	help += " (" + (shownUnit.isEmpty() ? QString() : shownUnit + "; ") + QString::fromStdString(gdm::range_text(o)) +
-		"; default " + QString::fromStdString(gdm::value_text(o, value)) + ")";
-	const QString label = QString::fromStdString(o.name) + (shownUnit.isEmpty() ? QString() : " (" + shownUnit + ")");
+	const auto &o = catalogueOption(p.name);
+	const double value = p.own_default ? p.default_value : o.get(gdm::PipelineOptions{});
+	const QString unit = QString::fromStdString(p.unit.empty() ? o.unit : p.unit);
+	const QString label = QString::fromStdString(o.name) + (unit.isEmpty() ? QString() : " (" + unit + ")");
+	const QString help = QString::fromStdString(o.help) + " (" + (unit.isEmpty() ? QString() : unit + "; ") +
+		QString::fromStdString(gdm::range_text(o)) + ")";
+	const QString name = QString::fromStdString(o.name);
 	switch (o.type) {
-	case gdm::OptionType::real:
-		par.addParam(RichFloat(name, static_cast<float>(value), label, help));
-		break;
-	case gdm::OptionType::integer:
-		par.addParam(RichInt(name, static_cast<int>(value), label, help));
-		break;
-	case gdm::OptionType::boolean:
-		par.addParam(RichBool(name, value != 0.0, label, help));
-		break;
+	case gdm::OptionType::real: par.addParam(RichFloat(name, static_cast<float>(value), label, help)); break;
+	case gdm::OptionType::integer: par.addParam(RichInt(name, static_cast<int>(value), label, help)); break;
+	case gdm::OptionType::boolean: par.addParam(RichBool(name, value != 0.0, label, help)); break;
 	case gdm::OptionType::choice: {
 		QStringList choices;
 		for (const auto &c : o.choices) choices << QString::fromStdString(c);
@@ -63,27 +61,69 @@ void addOption(RichParameterList &par, const char *name, const QString &unit = Q
 	}
 }
 
-void readOptions(const RichParameterList &par, const std::vector<const char *> &names, gdm::PipelineOptions &options)
+// The values last applied per filter: a reopened dialog shows them (the
+// wrap's lengths excepted: they follow the layer's size).
+std::map<int, RichParameterList> &lastUsed()
 {
-	for (const char *name : names) {
-		const auto &o = catalogueOption(name);
-		switch (o.type) {
-		case gdm::OptionType::real: o.set(options, par.getFloat(name)); break;
-		case gdm::OptionType::integer: o.set(options, par.getInt(name)); break;
-		case gdm::OptionType::boolean: o.set(options, par.getBool(name) ? 1.0 : 0.0); break;
-		case gdm::OptionType::choice: o.set(options, par.getEnum(name)); break;
-		}
-	}
+	static std::map<int, RichParameterList> values;
+	return values;
 }
 
-// What the two volume filters share: the volume, its threshold, the catalogue's options.
-gdm::PipelineOptions volumeOptions(const RichParameterList &par)
+void addParameters(RichParameterList &par, int id, const MeshModel *m)
+{
+	const float diag = m != nullptr && !m->cm.bbox.IsNull() ? m->cm.bbox.Diag() : 1.0f;
+	for (const FilterParam &p : gdm_meshlab::filter_parameters(filterOf(id))) {
+		const QString name = QString::fromStdString(p.name);
+		const QString label = QString::fromStdString(p.label);
+		const QString help = QString::fromStdString(p.help);
+		switch (p.kind) {
+		case ParamKind::volume_file:
+			par.addParam(RichOpenFile(name, "", QStringList() << "*.mha" << "*.mhd" << "*.nrrd" << "*.nhdr" << "*.nii"
+				<< "*.nii.gz" << "*.vtk" << "*.dcm" << "*", label, help));
+			break;
+		case ParamKind::boolean: par.addParam(RichBool(name, p.default_value != 0.0, label, help)); break;
+		case ParamKind::real: par.addParam(RichFloat(name, static_cast<float>(p.default_value), label, help)); break;
+		case ParamKind::point: par.addParam(RichPoint3f(name, Point3m(0, 0, 0), label, help)); break;
+		case ParamKind::text: par.addParam(RichString(name, "", label, help)); break;
+		case ParamKind::abs_perc:
+			par.addParam(RichAbsPerc(name, diag * static_cast<float>(p.default_value), 0.0f, diag, label, help));
+			break;
+		case ParamKind::catalogue: addOption(par, p); break;
+		}
+	}
+	const auto last = lastUsed().find(id);
+	if (last == lastUsed().end()) return;
+	for (const RichParameter &remembered : last->second)
+		if (par.hasParameter(remembered.name()) && !remembered.value().isAbsPerc())
+			par.setValue(remembered.name(), remembered.value());
+}
+
+// The pipeline's options from a dialog (or a script).
+gdm::PipelineOptions readOptions(const RichParameterList &par, int id)
 {
 	gdm::PipelineOptions o;
-	o.threshold_otsu = par.getBool("threshold_otsu");
-	o.threshold = par.getFloat("threshold");
-	readOptions(par, kVolumeOptions, o);
-	readOptions(par, kModelOptions, o);
+	for (const FilterParam &p : gdm_meshlab::filter_parameters(filterOf(id))) {
+		const QString name = QString::fromStdString(p.name);
+		if (p.kind == ParamKind::catalogue) {
+			const auto &c = catalogueOption(p.name);
+			switch (c.type) {
+			case gdm::OptionType::real: c.set(o, par.getFloat(name)); break;
+			case gdm::OptionType::integer: c.set(o, par.getInt(name)); break;
+			case gdm::OptionType::boolean: c.set(o, par.getBool(name) ? 1.0 : 0.0); break;
+			case gdm::OptionType::choice: c.set(o, par.getEnum(name)); break;
+			}
+		} else if (p.name == "threshold_otsu") {
+			o.threshold_otsu = par.getBool(name);
+		} else if (p.name == "threshold") {
+			o.threshold = par.getFloat(name);
+		} else if (p.name == "seed_automatic" && !par.getBool(name)) {
+			const Point3m s = par.getPoint3m("seed_point");
+			o.seed.kind = gdm::SeedKind::point;
+			o.seed.point = gdm::Vec3(s[0], s[1], s[2]);
+		} else if (p.name == "more_options") {
+			gdm_meshlab::apply_more_options(par.getString(name).toStdString(), o);
+		}
+	}
 	return o;
 }
 
@@ -182,20 +222,6 @@ int FilterGdmPlugin::getRequirements(QAction *)
 	return MeshModel::MM_NONE;
 }
 
-void FilterGdmPlugin::addVolumeParameters(RichParameterList &par)
-{
-	par.addParam(RichString("volume_file", "", "Volume file",
-		"Path of the volume: a .mha, .mhd, .nrrd, .nhdr, .nii, .nii.gz or .vtk file, or a directory holding DICOM "
-		"series (the one with most slices). Read with ITK as the gdm command reads it; coordinates are physical (mm)."));
-	par.addParam(RichBool("threshold_otsu", true, "Otsu's threshold",
-		"Choose the threshold T by Otsu's method (256 bins) on the (smoothed) volume, as the gdm command does by "
-		"default; off: use the threshold below."));
-	par.addParam(RichFloat("threshold", 0.0f, "threshold (image units)",
-		"The intensity that separates the object from the background (T of eq. 2 in the paper), in the volume's "
-		"units (e.g. Hounsfield units for CT). Used when Otsu's threshold is off."));
-	for (const char *name : kVolumeOptions) addOption(par, name);
-}
-
 void FilterGdmPlugin::initParameterSet(QAction *action, MeshDocument &md, RichParameterList &par)
 {
 	// The creation filter runs without any layer: md.mm() may be null.
@@ -209,39 +235,7 @@ void FilterGdmPlugin::initParameterSet(QAction *action, MeshModel &m, RichParame
 
 void FilterGdmPlugin::initParameters(QAction *action, const MeshModel *m, RichParameterList &par)
 {
-	switch (ID(action)) {
-	case FP_GDM_FROM_VOLUME:
-		addVolumeParameters(par);
-		par.addParam(RichBool("seed_automatic", true, "Automatic seed",
-			"Seed at the deepest point of the largest object region (a sphere of half its depth), as the gdm "
-			"command's --seed auto; off: a sphere at seed_point."));
-		par.addParam(RichPoint3f("seed_point", Point3m(0, 0, 0), "seed_point (mm)",
-			"Centre of the seed sphere in physical coordinates (mm) when the automatic seed is off; it must lie "
-			"inside the object."));
-		addOption(par, "seed_radius");
-		for (const char *name : kModelOptions) addOption(par, name);
-		break;
-	case FP_GDM_DEFORM_MESH:
-		addVolumeParameters(par);
-		addOption(par, "mode");
-		par.addParam(RichBool("new_layer", true, "Add the result as a new layer",
-			"Keep the current layer and add the deformed model as a new layer; otherwise replace the current layer."));
-		for (const char *name : kModelOptions) addOption(par, name);
-		break;
-	case FP_GDM_SHRINK_WRAP: {
-		const float diag = m != nullptr && m->cm.bbox.IsNull() == false ? m->cm.bbox.Diag() : 1.0f;
-		par.addParam(RichAbsPerc("cell_size", diag / 100.0f, 0.0f, diag / 5.0f, "Grid cell size",
-			"Size of the cells of the grid on which the distance to the mesh is sampled. The level of detail is "
-			"measured in these cells. Default: 1% of the bounding box diagonal."));
-		par.addParam(RichAbsPerc("tolerance", diag / 50.0f, 0.0f, diag / 5.0f, "Tolerance",
-			"Largest distance of the input from the wrap: the wrap settles at a third of this distance outside "
-			"the input (so that concave creases down to about 40 degrees stay within it) and never crosses the "
-			"input. At least the cell size. Default: 2% of the bounding box diagonal."));
-		for (const char *name : kWrapModelOptions) addOption(par, name, name == std::string("lod_face_area") ? "cell^2" : QString());
-		break;
-	}
-	default: assert(0);
-	}
+	addParameters(par, ID(action), m);
 }
 
 bool FilterGdmPlugin::fail(const QString &message)
@@ -264,17 +258,12 @@ bool FilterGdmPlugin::applyFilter(QAction *action, MeshDocument &md, const RichP
 		log.clear();
 	};
 	try {
+		lastUsed()[ID(action)] = par;
 		switch (ID(action)) {
 		case FP_GDM_FROM_VOLUME: {
-			gdm::PipelineOptions options = volumeOptions(par);
-			if (!par.getBool("seed_automatic")) {
-				const Point3m p = par.getPoint3m("seed_point");
-				options.seed.kind = gdm::SeedKind::point;
-				options.seed.point = gdm::Vec3(p[0], p[1], p[2]);
-			}
-			readOptions(par, {"seed_radius"}, options);
+			const gdm::PipelineOptions options = readOptions(par, ID(action));
 			const gdm::Mesh mesh = gdm_meshlab::model_from_volume(
-				par.getString("volume_file").toStdString(), options, progress, &log);
+				gdm_meshlab::volume_path(par.getOpenFileName("volume_file").toStdString()), options, progress, &log);
 			flushLog();
 			MeshModel *mm = md.addNewMesh("", "Geometrically Deformed Model", true);
 			mm->updateDataMask(MeshModel::MM_VERTQUALITY);
@@ -285,12 +274,11 @@ bool FilterGdmPlugin::applyFilter(QAction *action, MeshDocument &md, const RichP
 		case FP_GDM_DEFORM_MESH: {
 			MeshModel *current = md.mm();
 			if (current == nullptr) return fail("no current layer: open a closed triangle mesh to use as the seed");
-			gdm::PipelineOptions options = volumeOptions(par);
-			readOptions(par, {"mode"}, options);
+			gdm::PipelineOptions options = readOptions(par, ID(action));
 			options.seed.kind = gdm::SeedKind::mesh;
 			options.seed.mesh = gdm_meshlab::to_gdm_seed(current->cm, &log);
 			const gdm::Mesh mesh = gdm_meshlab::model_from_volume(
-				par.getString("volume_file").toStdString(), options, progress, &log);
+				gdm_meshlab::volume_path(par.getOpenFileName("volume_file").toStdString()), options, progress, &log);
 			flushLog();
 			MeshModel *target = current;
 			if (par.getBool("new_layer"))
@@ -303,8 +291,7 @@ bool FilterGdmPlugin::applyFilter(QAction *action, MeshDocument &md, const RichP
 		case FP_GDM_SHRINK_WRAP: {
 			MeshModel *current = md.mm();
 			if (current == nullptr) return fail("no current layer to wrap");
-			gdm::PipelineOptions m;
-			readOptions(par, kWrapModelOptions, m);
+			const gdm::PipelineOptions m = readOptions(par, ID(action));
 			gdm::validate(m);
 			gdm::WrapOptions w;
 			w.cell_size = par.getAbsPerc("cell_size");

@@ -29,7 +29,6 @@ public:
 
 private:
 	void initParameters(QAction *action, const MeshModel *m, RichParameterList &par);
-	void addVolumeParameters(RichParameterList &par);
 	bool fail(const QString &message);
 };
 

@@ -18,6 +18,7 @@
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
 
+#include "filter_parameters.h"
 #include "gdm/mesh_io.h"
 #include "gdm/float_snap.h"
 #include "gdm/mesh_checks.h"
@@ -289,13 +290,45 @@ int same(const std::string& a, const std::string& b) {
   return points == 0 && faces == 0 ? 0 : 1;
 }
 
+// `script FILTER OUT [name=value ...] [+cut=CONDITION]`: a meshlabserver
+// script with every parameter at its default but those given
+// (gdm_meshlab::script); +cut appends MeshLab's face selection by CONDITION and
+// its deletion (an open mesh from a closed one).
+int write_script(int argc, char** argv) {
+  const std::string which = argv[2];
+  const gdm_meshlab::Filter filter = which == "from_volume" ? gdm_meshlab::Filter::from_volume
+                                     : which == "deform_mesh" ? gdm_meshlab::Filter::deform_mesh
+                                                              : gdm_meshlab::Filter::shrink_wrap;
+  std::vector<std::pair<std::string, std::string>> values;
+  std::string cut;
+  for (int i = 4; i < argc; ++i) {
+    const std::string arg = argv[i];
+    const auto eq = arg.find('=');
+    if (arg.rfind("+cut=", 0) == 0) cut = arg.substr(5);
+    else if (eq != std::string::npos) values.emplace_back(arg.substr(0, eq), arg.substr(eq + 1));
+  }
+  std::string text = gdm_meshlab::script(filter, values);
+  if (!cut.empty()) {
+    const auto end = text.rfind("</FilterScript>");
+    text = text.substr(0, end) + " <filter name=\"Conditional Face Selection\">\n  <Param type=\"RichString\" value=\"" +
+           cut + "\" name=\"condSelect\"/>\n </filter>\n <filter name=\"Delete Selected Faces and Vertices\"/>\n</FilterScript>\n";
+  }
+  std::ofstream(argv[3]) << text;
+  return 0;
+}
+
 int main(int argc, char** argv) {
+  if (argc >= 4 && std::string(argv[1]) == "script") return write_script(argc, argv);
+  if (argc >= 2 && std::string(argv[1]) == "parameters") {
+    std::cout << gdm_meshlab::parameters_markdown();
+    return 0;
+  }
   if (argc >= 4 && std::string(argv[1]) == "same") return same(argv[2], argv[3]);
   if (argc >= 3 && std::string(argv[1]) == "inputs") return inputs(argv[2]);
   if (argc >= 3 && std::string(argv[1]) == "check") return check(argc, argv);
   if (argc >= 6 && std::string(argv[1]) == "wrap") return wrap(argc, argv);
   std::fprintf(stderr,
-               "usage: gdm_ml_testtool inputs <dir> | check <mesh> [checks...] | same <mesh> <mesh> | "
+               "usage: gdm_ml_testtool script <filter> <out.mlx> [name=value...] | parameters | inputs <dir> | check <mesh> [checks...] | same <mesh> <mesh> | "
                "wrap <in> <out> <cell> <tol> [rounds]\n");
   return 2;
 }

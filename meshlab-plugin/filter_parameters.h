@@ -1,0 +1,64 @@
+// The MeshLab filters' parameters as plain data (no Qt, no MeshLab): what each
+// dialog shows, in order, with its default and help. The model's options are
+// the catalogue's (gdm::pipeline_option_catalogue()): a parameter of kind
+// `catalogue` takes the option's name, default, range and help from there, and
+// every other catalogue option is reachable through `more_options`
+// ("name=value ..."). The plugin builds its RichParameters from these lists,
+// and meshlab-plugin/PARAMETERS.md is generated from them (a test fails when
+// it is stale).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "gdm/pipeline.h"
+
+namespace gdm_meshlab {
+
+enum class ParamKind {
+  volume_file,  // a file chooser (a file of a DICOM series stands for its folder)
+  boolean,
+  real,
+  point,        // x, y, z in mm
+  text,
+  abs_perc,     // a length with its percentage of the layer's bounding box diagonal
+  catalogue     // an option of the catalogue, by its name
+};
+
+struct FilterParam {
+  std::string name;          // the parameter's name in scripts (the catalogue's for kind catalogue)
+  ParamKind kind = ParamKind::real;
+  std::string label;         // the dialog's label; empty for catalogue options (their name and unit)
+  std::string help;          // the tooltip; empty for catalogue options (their help and range)
+  double default_value = 0;  // booleans 0/1; abs_perc: the fraction of the bounding box diagonal
+  std::string unit;          // replaces a catalogue option's unit (the wrap's level of detail is in cell^2)
+  bool own_default = false;  // a catalogue option with this filter's default_value instead of the catalogue's
+};
+
+enum class Filter { from_volume, deform_mesh, shrink_wrap };
+
+// The dialog of `filter`, in order.
+const std::vector<FilterParam>& filter_parameters(Filter filter);
+
+// The script name of `filter` ("Geometrically Deformed Model from Volume", ...).
+std::string filter_name(Filter filter);
+
+// Sets the catalogue options named in `text`: "name=value" pairs separated by
+// spaces, commas or semicolons; names as in the catalogue (dashes accepted),
+// values as the gdm command takes them (numbers, inf, on/off, choice names).
+// Throws gdm::InvalidOption naming the pair for an unknown name or a bad value.
+void apply_more_options(const std::string& text, gdm::PipelineOptions& options);
+
+// The volume file to read: `path` itself, or the folder of a DICOM slice
+// (.dcm, .ima, or no extension) so that picking any slice reads its series.
+std::string volume_path(const std::string& path);
+
+// A meshlabserver script running `filter` with every parameter at its default
+// but those in `values` (name -> the XML value; a point as "x y z", an
+// abs_perc as the length in mm): meshlab-plugin/scripts/*.mlx and the tests.
+std::string script(Filter filter, const std::vector<std::pair<std::string, std::string>>& values = {});
+
+// meshlab-plugin/PARAMETERS.md: every filter's parameters with defaults and help.
+std::string parameters_markdown();
+
+}  // namespace gdm_meshlab
