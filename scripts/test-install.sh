@@ -105,7 +105,15 @@ check "phantom_to_mesh on the installed phantom: a closed mesh written" \
 
 echo "== the installed command and its man page"
 check "gdm from the prefix on its phantom (share/gdm)" env -u GDM_DATA_DIR "$prefix/bin/gdm" --quiet -o "$work/phantom.ply"
-check "man page: the options of gdm --help" bash -c "man -l '$prefix/share/man/man1/gdm.1.gz' 2>/dev/null | grep -q -- '--lod-face-area'"
+man_page() {  # roff with every section; rendered by man when man-db is there
+  zcat "$prefix/share/man/man1/gdm.1.gz" | grep -q '^\.TH GDM 1' || return 1
+  for s in NAME SYNOPSIS DESCRIPTION OPTIONS '"EXIT STATUS"'; do
+    zcat "$prefix/share/man/man1/gdm.1.gz" | grep -qxF ".SH $s" || { echo "man page lacks $s" >>"$work/log"; return 1; }
+  done
+  zcat "$prefix/share/man/man1/gdm.1.gz" | grep -qF '.B \-\-lod\-face\-area X' || return 1
+  if command -v man >/dev/null; then man -l "$prefix/share/man/man1/gdm.1.gz" 2>/dev/null | grep -q -- '--lod-face-area'; fi
+}
+check "man page: sections and the options of gdm --help" man_page
 
 echo "== the MeshLab plugin loaded from the prefix (staged meshlabserver, xvfb-run)"
 if command -v xvfb-run >/dev/null && [ -x /usr/bin/meshlabserver ]; then
