@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Sets up the machine, builds everything and runs the whole test suite:
-# the Release build's tests (core, ITK module, MeshLab plugin), the ITK
+# the Release build's tests (core, ITK module, MeshLab plugin), the install
+# (scripts/test-install.sh: a temporary prefix, the downstream projects of
+# test/downstream, the plugin loaded from the prefix, the .deb), the ITK
 # module again as an ITK external module, then the core's tests again under
 # AddressSanitizer + UndefinedBehaviorSanitizer, then a short benchmark run
 # (reported, not asserted).
@@ -31,6 +33,9 @@ if [ -d "$here/build/python/gdm" ]; then
 else
   echo "skipped: the Python module was not built (pybind11-dev or python3-dev missing, or -DGDM_BUILD_PYTHON=OFF)"
 fi
+
+echo "== install: temporary prefix, downstream projects, MeshLab plugin from the prefix, Debian package"
+bash "$here/scripts/test-install.sh" "$here/build"
 
 echo "== ITK module built as an ITK external module (ITK's module machinery)"
 bash "$here/itk-module/scripts/build-external.sh" "$here/build-itk-external"

@@ -34,7 +34,8 @@ struct WrapOptions {
   double a1 = 1.0;               // image event gain
   double a2 = 5.0;               // topology gain
   double lod_face_area = 10.0;   // level of detail: faces larger than this are split, cell^2
-  int global_refinements = 1;    // 1-to-4 resamplings, each after a convergence
+  int global_refinements = 0;    // 1-to-4 resamplings, each after a convergence; 0: faces stay near the
+                                 // level of detail (one resampling quadruples faces and time)
   int max_cycles = 2000;         // deformation cycles, all stages and coverage rounds together
   int threads = 0;               // worker threads; 0 = all cores; the result does not depend on it
   std::function<bool(double)> field_progress = {};  // the distance field's progress (fraction in [0, 1]);
