@@ -43,7 +43,7 @@ bash "$here/itk-module/scripts/build-external.sh" "$here/build-itk-external"
 echo "== build (core, AddressSanitizer + UndefinedBehaviorSanitizer)"
 GDM_BUILD_DIR="$here/build-sanitize" bash "$here/scripts/build.sh" \
   -DCMAKE_BUILD_TYPE=RelWithDebInfo -DGDM_SANITIZE=ON -DGDM_BUILD_BENCHMARKS=OFF \
-  -DGDM_BUILD_ITK=OFF -DGDM_BUILD_MESHLAB_PLUGIN=OFF
+  -DGDM_BUILD_ITK=OFF -DGDM_BUILD_MESHLAB_PLUGIN=OFF -DGDM_BUILD_PYTHON=OFF
 echo "== tests (core, sanitizers)"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --test-dir "$here/build-sanitize" --output-on-failure -j "$jobs" --timeout 1800
