@@ -118,10 +118,11 @@ check "man page: sections and the options of gdm --help" man_page
 echo "== the MeshLab plugin loaded from the prefix (staged meshlabserver, xvfb-run)"
 if command -v xvfb-run >/dev/null && [ -x /usr/bin/meshlabserver ]; then
   check "scripts/meshlab-in-prefix.sh stages meshlabserver" bash "$here/scripts/meshlab-in-prefix.sh" "$prefix"
-  sed -e "s|@VOLUME@|$prefix/share/gdm/phantom.mha|" -e 's/@OTSU@/false/' -e 's/@THRESHOLD@/400/' \
-    -e 's/@POLARITY@/0/' -e 's/@SEED_AUTOMATIC@/true/' -e 's/@SEED_[XYZ]@/0/g' -e 's/@SEED_RADIUS@/0/' \
-    -e 's/@LOD@/10/' -e 's/@REFINEMENTS@/1/' -e 's/@FIT_SMOOTHING@/0.5/' -e 's/@ALLOW_BORDER@/false/' \
-    "$here/meshlab-plugin/test/scripts/from_volume.mlx.in" >"$work/from_volume.mlx"
+  # The committed default script (meshlab-plugin/scripts/), with the volume and T 400.
+  sed -e "s|value=\"\" exts_cardinality=\"0\" name=\"volume_file\"|value=\"$prefix/share/gdm/phantom.mha\" exts_cardinality=\"0\" name=\"volume_file\"|" \
+    -e 's|value="true" name="threshold_otsu"|value="false" name="threshold_otsu"|' \
+    -e 's|value="0" name="threshold"|value="400" name="threshold"|' \
+    "$here/meshlab-plugin/scripts/from_volume.mlx" >"$work/from_volume.mlx"
   plugin_run() {
     (cd "$work" && xvfb-run -a "$prefix/bin/meshlabserver" -o "$work/plugin.ply" -m vq -s "$work/from_volume.mlx") \
       >"$work/meshlab.log" 2>&1 || true
