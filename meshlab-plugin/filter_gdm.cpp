@@ -45,8 +45,7 @@ void addOption(RichParameterList &par, const FilterParam &p)
 	const double value = p.own_default ? p.default_value : o.get(gdm::PipelineOptions{});
 	const QString unit = QString::fromStdString(p.unit.empty() ? o.unit : p.unit);
 	const QString label = QString::fromStdString(o.name) + (unit.isEmpty() ? QString() : " (" + unit + ")");
-	const QString help = QString::fromStdString(o.help) + " (" + (unit.isEmpty() ? QString() : unit + "; ") +
-		QString::fromStdString(gdm::range_text(o)) + ")";
+	const QString help = QString::fromStdString(gdm_meshlab::dialog_help(o, p));
 	const QString name = QString::fromStdString(o.name);
 	switch (o.type) {
 	case gdm::OptionType::real: par.addParam(RichFloat(name, static_cast<float>(value), label, help)); break;
@@ -155,13 +154,9 @@ QString FilterGdmPlugin::filterInfo(FilterIDType filterId) const
 {
 	switch (filterId) {
 	case FP_GDM_FROM_VOLUME:
-		return QString("Extracts a closed triangle mesh of an object in a volume (MetaImage .mha/.mhd, NRRD, NIfTI "
-			"or a DICOM directory) with a Geometrically Deformed Model: a seed sphere inside the object (by default at "
-			"the deepest point of the largest object region, with Otsu's threshold: the gdm command's defaults, the "
-			"same pipeline and the same mesh) grows until it meets the threshold, split into faces no larger than the "
-			"level of detail as it goes. "
-			"The result is closed, 2-manifold, of genus 0 and free of self-intersections. Each vertex stores in its "
-			"quality the deformation cycle that created it (Fig. 11 of the paper): colour by vertex quality to see it.")
+		return QString("A closed, 2-manifold, genus-0, self-intersection-free mesh of the object in a volume: the gdm "
+			"command's pipeline and defaults (Otsu's threshold, automatic seed), the same mesh. Vertex quality = the "
+			"cycle that created the vertex (Fig. 11).")
 			+ kReference;
 	case FP_GDM_DEFORM_MESH:
 		return QString("Uses the current layer as the seed of a Geometrically Deformed Model in a volume file. The "

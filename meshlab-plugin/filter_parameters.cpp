@@ -35,15 +35,12 @@ FilterParam option(std::string name, std::string unit = {}) {
 std::vector<FilterParam> volume_head() {
   return {
       param("volume_file", ParamKind::volume_file, "Volume file",
-            "A .mha, .mhd, .nrrd, .nhdr, .nii, .nii.gz or .vtk volume, or any slice of a DICOM series (its folder is "
-            "read: the series with most slices), read as the gdm command reads it. Coordinates are in mm."),
+            "Choose with ...: a .mha, .mhd, .nrrd, .nii(.gz) or .vtk volume, or a slice of a DICOM series."),
       param("threshold_otsu", ParamKind::boolean, "Otsu's threshold",
-            "Choose the threshold T by Otsu's method on the (smoothed) volume, as the gdm command does; off: use "
-            "the threshold below.",
+            "T by Otsu's method on the (smoothed) volume, as gdm does; off: the threshold below.",
             1.0),
       param("threshold", ParamKind::real, "Threshold (image units)",
-            "The intensity between object and background (T of eq. 2), e.g. in Hounsfield units for CT; used when "
-            "Otsu's threshold is off."),
+            "The intensity between object and background (T of eq. 2), e.g. HU for CT."),
       option("polarity"),
       option("smooth"),
   };
@@ -55,8 +52,7 @@ std::vector<FilterParam> volume_tail() {
       option("lod_tolerance"),
       option("allow_border"),
       param("more_options", ParamKind::text, "More options",
-            "Any other option of docs/options.md as name=value pairs, e.g. \"a2=3 global_refinements=0 "
-            "fit_smoothing=1\"; the gdm command takes the same as --a2 3 ..."),
+            "Other options of docs/options.md as name=value pairs, e.g. a2=3 global_refinements=0"),
   };
 }
 
@@ -76,11 +72,10 @@ std::vector<FilterParam> make(Filter filter) {
     case Filter::from_volume:
       append(volume_head());
       append({param("seed_automatic", ParamKind::boolean, "Automatic seed",
-                    "Seed at the deepest point of the largest object region (the gdm command's --seed auto); off: "
-                    "a sphere at the seed point.",
+                    "Seed at the deepest point of the largest object region (gdm's --seed auto); off: the seed point.",
                     1.0),
               param("seed_point", ParamKind::point, "Seed point (mm)",
-                    "Centre of the seed sphere when the automatic seed is off; it must lie inside the object."),
+                    "Centre of the seed sphere when the automatic seed is off; inside the object."),
               option("seed_radius")});
       append(volume_tail());
       break;
@@ -88,21 +83,19 @@ std::vector<FilterParam> make(Filter filter) {
       append(volume_head());
       append({option("mode"),
               param("new_layer", ParamKind::boolean, "Add the result as a new layer",
-                    "Keep the current layer and add the model as a new layer; off: replace the current layer.", 1.0)});
+                    "Keep the current layer and add the model as a new one; off: replace it.", 1.0)});
       append(volume_tail());
       break;
     case Filter::shrink_wrap:
       append({param("cell_size", ParamKind::abs_perc, "Grid cell size",
-                    "Cells of the grid on which the distance to the layer is sampled; the level of detail is measured "
-                    "in them. Default: 1% of the bounding box diagonal.",
+                    "Cells of the distance grid; the level of detail is in cells. Default: 1% of the diagonal.",
                     0.01),
               param("tolerance", ParamKind::abs_perc, "Tolerance",
-                    "Largest distance of the layer from the wrap (the wrap settles at a third of it and never crosses "
-                    "the layer); at least the cell size. Default: 2% of the bounding box diagonal.",
+                    "Largest distance of the layer from the wrap, at least the cell size. Default: 2% of the diagonal.",
                     0.02),
               option("lod_face_area", "cell^2"), wrap_refinements(),
               param("more_options", ParamKind::text, "More options",
-                    "Other options of docs/options.md as name=value pairs (a0, a1, a2, max_cycles, threads).")});
+                    "Other options as name=value pairs: a0, a1, a2, max_cycles, threads.")});
       break;
   }
   return out;
@@ -131,6 +124,16 @@ double parse_value(const gdm::OptionInfo& o, const std::string& text) {
 }
 
 }  // namespace
+
+std::string dialog_help(const gdm::OptionInfo& o, const FilterParam& p) {
+  // MeshLab shows three lines of help beside a parameter: the option's help
+  // up to its first ';' when it is long, then its unit and range.
+  std::string help = o.help;
+  const auto semicolon = help.find(';');
+  if (help.size() > 90 && semicolon != std::string::npos) help = help.substr(0, semicolon);
+  const std::string unit = p.unit.empty() ? o.unit : p.unit;
+  return help + " (" + (unit.empty() ? "" : unit + "; ") + gdm::range_text(o) + ")";
+}
 
 const std::vector<FilterParam>& filter_parameters(Filter filter) {
   static const std::vector<FilterParam> lists[3] = {make(Filter::from_volume), make(Filter::deform_mesh),
@@ -283,8 +286,7 @@ std::string parameters_markdown() {
           value = o->type == gdm::OptionType::boolean ? (v != 0.0 ? "true" : "false")
                   : o->type == gdm::OptionType::choice ? gdm::format_number(v) + " (" + gdm::value_text(*o, v) + ")"
                                                         : gdm::value_text(*o, v);
-          const std::string unit = p.unit.empty() ? o->unit : p.unit;
-          help = o->help + " (" + (unit.empty() ? "" : unit + "; ") + gdm::range_text(*o) + ")";
+          help = dialog_help(*o, p);
           break;
         }
       }

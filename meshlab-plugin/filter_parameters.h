@@ -58,6 +58,10 @@ std::string volume_path(const std::string& path);
 // abs_perc as the length in mm): meshlab-plugin/scripts/*.mlx and the tests.
 std::string script(Filter filter, const std::vector<std::pair<std::string, std::string>>& values = {});
 
+// The help a dialog shows for a catalogue option: short enough for MeshLab's
+// three lines (its help up to the first ';' when long), its unit and range.
+std::string dialog_help(const gdm::OptionInfo& option, const FilterParam& param);
+
 // meshlab-plugin/PARAMETERS.md: every filter's parameters with defaults and help.
 std::string parameters_markdown();
 

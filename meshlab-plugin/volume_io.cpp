@@ -10,7 +10,8 @@
 namespace gdm_meshlab {
 
 gdm::Volume read_volume(const std::string& path, std::string* description) {
-  if (path.empty()) throw std::runtime_error("no volume file given (parameter VolumeFile is empty)");
+  if (path.empty()) throw std::runtime_error("no volume file chosen: choose it with the ... button beside Volume file (MeshLab 2020.09 "
+                             "ignores a path typed into that field; in a script, parameter volume_file)");
   struct stat st {};
   if (::stat(path.c_str(), &st) != 0) throw std::runtime_error("the volume file '" + path + "' does not exist");
   gdm::ImageInfo info;
