@@ -4,6 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "gdm/errors.h"
 #include "gdm/mesh_checks.h"
@@ -181,6 +184,71 @@ TEST(Pipeline, a_seed_mesh_pointing_inwards_is_reversed) {
   ASSERT_TRUE(r.failure.empty()) << r.failure;
   EXPECT_TRUE(r.choices.seed_reversed);
   EXPECT_GT(r.report.volume, 0.0);
+}
+
+// The fuzz target's volume (test/fuzz/fuzz_pipeline.cpp): a ball of 100s in
+// 0s, radius r voxels around voxel c.
+Volume fuzz_blob(Index3 dims, Vec3 spacing, Vec3 c, double r) {
+  std::vector<float> values;
+  for (int z = 0; z < dims[2]; ++z)
+    for (int y = 0; y < dims[1]; ++y)
+      for (int x = 0; x < dims[0]; ++x)
+        values.push_back((Vec3(x, y, z) - c).squaredNorm() <= r * r ? 100.0f : 0.0f);
+  return Volume(dims, values, spacing);
+}
+
+const OptionEntry<PipelineOptions>& pipeline_option(const std::string& name) {
+  for (const auto& e : pipeline_option_catalogue())
+    if (e.name == name) return e;
+  throw std::runtime_error("no option " + name);
+}
+
+// Found by fuzz_pipeline (test/fuzz/corpus/fuzz_pipeline/crash_polarity_nan):
+// the catalogue's setter cast NaN to the Polarity enum (undefined behaviour,
+// UndefinedBehaviorSanitizer stopped there); the same for every integer or
+// choice option and NaN, infinities or 1e300, and value_text() cast a choice's
+// value to int before its range check. Now the setter refuses with
+// InvalidOption naming the option, and real options keep the value for
+// validate() to name.
+TEST(Pipeline, fuzz_option_setters_refuse_values_their_field_cannot_hold) {
+  const Volume volume = fuzz_blob({12, 12, 12}, Vec3(0.7, 0.7, 2.0), Vec3(6, 6, 6), 5.0);
+  PipelineOptions o = quick_options();
+  o.threshold_otsu = false;
+  o.threshold = 0.5;
+  o.deform.global_refinements = 1;
+  pipeline_option("smooth").set(o, std::nan(""));
+  try {
+    pipeline_option("polarity").set(o, std::nan(""));
+    ADD_FAILURE() << "polarity = nan was stored";
+  } catch (const InvalidOption& e) {
+    EXPECT_EQ(e.option(), "polarity");
+    EXPECT_NE(std::string(e.what()).find("polarity must be bright or dark, got nan"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(value_text(pipeline_option("mode"), 1e300), "1e+300");  // the message's value: no cast of 1e300 to int
+  try {
+    extract_surface(volume, o);
+    ADD_FAILURE() << "smooth = nan was accepted";
+  } catch (const InvalidOption& e) {
+    EXPECT_EQ(e.option(), "smooth");
+  }
+  const double hostile[] = {std::nan(""), INFINITY, -INFINITY, 1e300, -1e300, 1e19, 4294967296.0};
+  for (const auto& e : pipeline_option_catalogue()) {
+    for (const double v : hostile) {
+      PipelineOptions p;
+      try {
+        e.set(p, v);
+      } catch (const InvalidOption& error) {
+        EXPECT_EQ(error.option(), e.name);
+        EXPECT_TRUE(e.type == OptionType::integer || e.type == OptionType::choice) << e.name;
+        continue;
+      }
+      if (e.type == OptionType::integer || e.type == OptionType::choice) {
+        ADD_FAILURE() << e.name << " = " << v << " was stored in an integer field";
+      } else if (e.type == OptionType::real && !accepts(e, v)) {
+        EXPECT_THROW(validate(p), InvalidOption) << e.name << " = " << v;
+      }
+    }
+  }
 }
 
 TEST(Pipeline, progress_is_monotone_below_one_and_can_cancel) {

@@ -95,9 +95,14 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   const auto& catalogue = gdm::pipeline_option_catalogue();
   const int count = in.byte() % 5;
-  for (int k = 0; k < count; ++k) {
-    const auto& e = catalogue[in.byte() % catalogue.size()];
-    e.set(o, option_value(in, e));
+  try {
+    // A setter refuses (InvalidOption) a value its integer field cannot hold.
+    for (int k = 0; k < count; ++k) {
+      const auto& e = catalogue[in.byte() % catalogue.size()];
+      e.set(o, option_value(in, e));
+    }
+  } catch (const gdm::InvalidOption&) {
+    return 0;
   }
   // Bounded runs: 1 s, a few thousand faces, one thread (a value the bytes
   // made invalid is kept: validate() must refuse it).
