@@ -3,6 +3,7 @@
 // and refuses what cannot work with a typed error that names the problem.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -249,6 +250,31 @@ TEST(Pipeline, fuzz_option_setters_refuse_values_their_field_cannot_hold) {
       }
     }
   }
+}
+
+// Found by fuzz_pipeline (test/fuzz/corpus/fuzz_pipeline/timeout_smooth_tiny_spacing):
+// smooth 1000 mm on a volume with a spacing of 1e-6 mm made a Gaussian kernel
+// of 4e9 voxels each side (the cast to int overflowed first): a hang. A sigma
+// wider than the volume along an axis is now refused up front.
+TEST(Pipeline, fuzz_smoothing_wider_than_the_volume_is_refused_at_once) {
+  const Volume volume = fuzz_blob({10, 7, 8}, Vec3(1e-6, 1.0, 1.0), Vec3(5, 3, 4), 3.0);
+  PipelineOptions o = quick_options();
+  o.time_limit = 1.0;
+  for (const double smooth : {1000.0, 1.0, 2e-5}) {
+    o.smooth = smooth;
+    const auto start = std::chrono::steady_clock::now();
+    try {
+      extract_surface(volume, o);
+      ADD_FAILURE() << "smooth " << smooth << " on a 1e-6 mm spacing was accepted";
+    } catch (const InvalidOption& e) {
+      EXPECT_EQ(e.option(), "smooth");
+      EXPECT_NE(std::string(e.what()).find("wider than the volume's 10 voxels"), std::string::npos) << e.what();
+    }
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 1.0);
+  }
+  // Narrower than the volume on every axis: smoothed as before.
+  o.smooth = 5e-6;
+  EXPECT_NO_THROW(gaussian_smooth(volume, o.smooth));
 }
 
 TEST(Pipeline, progress_is_monotone_below_one_and_can_cancel) {

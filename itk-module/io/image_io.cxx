@@ -23,7 +23,9 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <memory>
 #include <sstream>
+#include <type_traits>
 
 #include "gdm/image_io.h"
 
@@ -268,12 +270,19 @@ T get(const unsigned char* p, bool swap) {
 // for gzip data the size of what the stream really inflates to.
 void check_nifti(const std::string& path, unsigned long long voxels, long double expected) {
   const bool pair = ends_with(path, ".hdr") || ends_with(path, ".hdr.gz");
-  gzFile f = gzopen(path.c_str(), "rb");
+  // Closed on every path, a throw included (check_header_spacing throws with
+  // the stream open: an open file and zlib's buffers lost per bad header,
+  // found by fuzz_image_reader).
+  struct GzClose {
+    void operator()(gzFile f) const { gzclose(f); }
+  };
+  std::unique_ptr<std::remove_pointer_t<gzFile>, GzClose> file(gzopen(path.c_str(), "rb"));
+  gzFile f = file.get();
   if (!f) return;
   unsigned char h[540];
   const int got = gzread(f, h, sizeof h);
   if (got < 348) {
-    gzclose(f);
+    file.reset();
     throw InvalidInput(path + ": the NIfTI header is truncated (" + std::to_string(std::max(got, 0)) +
                        " bytes; a NIfTI-1 header has 348)");
   }
@@ -284,7 +293,7 @@ void check_nifti(const std::string& path, unsigned long long voxels, long double
   else if (get<std::int32_t>(h, false) == 540) version = 2;
   else if (get<std::int32_t>(h, true) == 540) version = 2, swap = true;
   if (version == 0 || (version == 2 && got < 540)) {
-    gzclose(f);
+    file.reset();
     return;  // ITK accepted it: leave it to ITK
   }
   std::vector<double> pixdim(3);
@@ -301,11 +310,11 @@ void check_nifti(const std::string& path, unsigned long long voxels, long double
   }
   check_header_spacing(path, "pixdim", pixdim, std::min<std::size_t>(ndim, 3));
   if (expected < 0) {
-    gzclose(f);
+    file.reset();
     return;
   }
   if (pair) {
-    gzclose(f);
+    file.reset();
     std::string img = path.substr(0, path.size() - (ends_with(path, ".gz") ? 7 : 4)) + ".img";
     const long long size = file_size(img);
     if (size >= 0 && expected > size)
@@ -321,14 +330,14 @@ void check_nifti(const std::string& path, unsigned long long voxels, long double
     int code = Z_OK;
     const char* message = gzerror(f, &code);
     const std::string error = n < 0 || (code != Z_OK && code != Z_STREAM_END) ? std::string(message ? message : "") : "";
-    gzclose(f);
+    file.reset();
     if (total < offset + expected)
       throw InvalidInput(voxel_claim(path, voxels, expected, std::max<long double>(0, total - offset),
                                      "the gzip stream") + (error.empty() ? "" : " (zlib: " + error + ")"));
     if (!error.empty()) throw InvalidInput(path + ": the gzip stream is corrupt (zlib: " + error + ")");
     return;
   }
-  gzclose(f);
+  file.reset();
   const long double held = static_cast<long double>(file_size(path)) - offset;
   if (held < expected) throw InvalidInput(voxel_claim(path, voxels, expected, std::max<long double>(0, held), "the file"));
 }
