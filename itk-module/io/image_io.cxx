@@ -309,6 +309,31 @@ void check_nifti(const std::string& path, unsigned long long voxels, long double
     offset = static_cast<long double>(get<std::int64_t>(h + 168, swap));
   }
   check_header_spacing(path, "pixdim", pixdim, std::min<std::size_t>(ndim, 3));
+  // The orientation ITK takes (the sform when sform_code > 0, else the qform
+  // when qform_code > 0) must be finite: ITK 5.2 runs an SVD on it, and vnl
+  // aborts the process on a NaN or infinite entry (found by fuzz_image_reader).
+  const int qform_code = version == 1 ? get<std::int16_t>(h + 252, swap) : get<std::int32_t>(h + 344, swap);
+  const int sform_code = version == 1 ? get<std::int16_t>(h + 254, swap) : get<std::int32_t>(h + 348, swap);
+  const auto field = [&](int i1, int i2) {  // float i of NIfTI-1 at byte i1, double of NIfTI-2 at i2
+    return version == 1 ? static_cast<double>(get<float>(h + i1, swap)) : get<double>(h + i2, swap);
+  };
+  const auto check_finite = [&](const char* name, int i1, int i2, int count) {
+    for (int i = 0; i < count; ++i) {
+      const double v = field(i1 + 4 * i, i2 + 8 * i);
+      if (!(std::abs(v) <= std::numeric_limits<float>::max()))
+        throw InvalidInput(path + ": the NIfTI header's " + name + "[" + std::to_string(i) + "] is " + number(v) +
+                           "; the orientation must be finite");
+    }
+  };
+  if (sform_code > 0) {
+    check_finite("srow_x", 280, 400, 4);
+    check_finite("srow_y", 296, 432, 4);
+    check_finite("srow_z", 312, 464, 4);
+  }
+  if (qform_code > 0) {
+    check_finite("quatern_b/c/d", 256, 352, 3);
+    check_finite("qoffset_x/y/z", 268, 376, 3);
+  }
   if (expected < 0) {
     file.reset();
     return;

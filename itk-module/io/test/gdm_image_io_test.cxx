@@ -615,3 +615,33 @@ TEST(Fuzz, RefusedNiftiHeadersLeaveNoFileOpen) {
   }
   EXPECT_EQ(open_file_descriptors(), before);
 }
+
+// fuzz_image_reader (test/fuzz/corpus/fuzz_image_reader/crash_nii_nan_srow):
+// a NIfTI header whose sform (or qform) holds a NaN made ITK 5.2's
+// NiftiImageIO run an SVD that vnl ends with abort(): the process died
+// (SIGABRT) inside read_volume. Now refused before ITK reads the header.
+// (ITK alone is not run on these files: it would abort this test.)
+TEST(Fuzz, NiftiWithANonFiniteOrientationIsRefusedNotAborted) {
+  const fs::path dir = work_dir();
+  write(small_volume(false).GetPointer(), dir / "v.nii");
+  const std::string good = slurp(dir / "v.nii");
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  std::int16_t code = 1;
+  {
+    std::string bytes = good;
+    std::memcpy(&bytes[254], &code, 2);        // sform_code 1
+    std::memcpy(&bytes[280 + 4], &nan, 4);     // srow_x[1]
+    write_text(dir / "nan-srow.nii", bytes);
+    expect_refused(dir / "nan-srow.nii", {"srow_x[1] is nan", "orientation must be finite"});
+  }
+  {
+    std::string bytes = good;
+    std::int16_t zero = 0;
+    std::memcpy(&bytes[252], &code, 2);        // qform_code 1
+    std::memcpy(&bytes[254], &zero, 2);        // sform_code 0: the qform is used
+    std::memcpy(&bytes[256 + 8], &inf, 4);     // quatern_d
+    write_text(dir / "inf-quatern.nii", bytes);
+    expect_refused(dir / "inf-quatern.nii", {"quatern_b/c/d[2] is inf", "orientation must be finite"});
+  }
+  EXPECT_NO_THROW(gdm::read_volume((dir / "v.nii").string()));
+}
