@@ -292,6 +292,14 @@ void check_nifti(const std::string& path, unsigned long long voxels, long double
   else if (get<std::int32_t>(h, true) == 348) version = 1, swap = true;
   else if (get<std::int32_t>(h, false) == 540) version = 2;
   else if (get<std::int32_t>(h, true) == 540) version = 2, swap = true;
+  else {
+    // Another sizeof_hdr: niftilib (inside ITK) still reads a NIfTI-1 /
+    // Analyze header, its byte order told by dim[0] (1 to 7), so check it
+    // the same way (found by fuzz_image_reader: sizeof_hdr 476 and a NaN sform).
+    const auto plausible = [](std::int16_t d0) { return d0 >= 1 && d0 <= 7; };
+    if (plausible(get<std::int16_t>(h + 40, false))) version = 1;
+    else if (plausible(get<std::int16_t>(h + 40, true))) version = 1, swap = true;
+  }
   if (version == 0 || (version == 2 && got < 540)) {
     file.reset();
     return;  // ITK accepted it: leave it to ITK

@@ -585,7 +585,9 @@ TEST(Fuzz, MetaImageDataFileWithASpaceThatDoesNotExist) {
                                       std::string(60, '\x07'));
   expect_refused(dir / "fuzzed.mha", {"its data file", "does not exist"});
   // The same name present is read as one file.
-  write_text(dir / "no such file.raw", std::string(60, '\x07'));
+  std::string voxels(60, '\x07');
+  voxels[5] = '\x30';
+  write_text(dir / "no such file.raw", voxels);
   EXPECT_EQ(gdm::read_volume((dir / "spaced.mhd").string()).voxel_count(), 60u);
 }
 
@@ -642,6 +644,17 @@ TEST(Fuzz, NiftiWithANonFiniteOrientationIsRefusedNotAborted) {
     std::memcpy(&bytes[256 + 8], &inf, 4);     // quatern_d
     write_text(dir / "inf-quatern.nii", bytes);
     expect_refused(dir / "inf-quatern.nii", {"quatern_b/c/d[2] is inf", "orientation must be finite"});
+  }
+  {
+    // crash_nii_sizeof_hdr_476: the same with a sizeof_hdr that is neither 348
+    // nor 540, which niftilib reads anyway (byte order from dim[0]).
+    std::string bytes = good;
+    const std::int32_t sizeof_hdr = 476;
+    std::memcpy(&bytes[0], &sizeof_hdr, 4);
+    std::memcpy(&bytes[254], &code, 2);
+    std::memcpy(&bytes[280 + 8], &nan, 4);     // srow_x[2]
+    write_text(dir / "odd-size.nii", bytes);
+    expect_refused(dir / "odd-size.nii", {"srow_x[2] is nan", "orientation must be finite"});
   }
   EXPECT_NO_THROW(gdm::read_volume((dir / "v.nii").string()));
 }
