@@ -147,7 +147,10 @@ void check_metaimage(const std::string& path, unsigned long long voxels, long do
     const auto eq = line.find('=');
     if (eq == std::string::npos) continue;
     const std::string key = lower(trim(line.substr(0, eq)));
-    fields[key] = trim(line.substr(eq + 1));
+    // MetaIO keeps a value as a C string: it ends at a NUL byte (found by
+    // fuzz_image_reader: "LColor\0%..." is the file LColor, not a pattern).
+    const std::string value = line.substr(eq + 1);
+    fields[key] = trim(value.substr(0, value.find('\0')));
     if (key == "elementdatafile") {
       header_end = in.tellg();
       break;

@@ -584,6 +584,11 @@ TEST(Fuzz, MetaImageDataFileWithASpaceThatDoesNotExist) {
   write_text(dir / "fuzzed.mha", mha_header("5 4 3", "0.5 1 2", "MET_UCHAR", "= MET_UCHArix = 1 0 0 0 1 0 0 0 1") +
                                       std::string(60, '\x07'));
   expect_refused(dir / "fuzzed.mha", {"its data file", "does not exist"});
+  // fuzz_image_reader (corpus/fuzz_image_reader/leak_mha_data_file_nul): the
+  // name ends at a NUL byte for MetaIO; what follows ('%', spaces) is not part of it.
+  write_text(dir / "nul.mha", mha_header("5 4 3", "0.5 1 2", "MET_UCHAR", std::string("LColor\0%Jo 1 2", 14)) +
+                                  std::string(60, '\x07'));
+  expect_refused(dir / "nul.mha", {"its data file", "LColor does not exist"});
   // The same name present is read as one file.
   std::string voxels(60, '\x07');
   voxels[5] = '\x30';
