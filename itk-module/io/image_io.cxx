@@ -17,8 +17,10 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <limits>
@@ -163,6 +165,40 @@ void check_metaimage(const std::string& path, unsigned long long voxels, long do
   else if (fields.count("elementsize"))
     check_header_spacing(path, "ElementSize", parse_numbers(fields["elementsize"]), ndims);
   if (expected < 0) return;
+  const std::string data_field = fields["elementdatafile"];
+  if (data_field.find('%') != std::string::npos && lower(data_field).rfind("list", 0) != 0) {
+    // A file pattern "<printf pattern> [first [last [step]]]": MetaIO takes
+    // the step from the words (3 words: (last - first) / slices, integer
+    // division) and divides by it and loops by it: a step of 0 ended the
+    // process with SIGFPE (found by fuzz_image_reader). Only integer words,
+    // a step > 0 and first <= last are accepted.
+    std::istringstream words(data_field);
+    std::vector<std::string> w;
+    for (std::string x; words >> x;) w.push_back(x);
+    std::vector<long long> n;
+    bool numbers = w.size() <= 4;
+    for (std::size_t i = 1; i < w.size() && numbers; ++i) {
+      char* end = nullptr;
+      errno = 0;
+      const long long v = std::strtoll(w[i].c_str(), &end, 10);
+      numbers = errno == 0 && *end == '\0' && v > -(1LL << 30) && v < (1LL << 30);
+      n.push_back(v);
+    }
+    const std::vector<double> dim_size = parse_numbers(fields["dimsize"]);
+    const long long slices = dim_size.empty() ? 0 : static_cast<long long>(dim_size.back());
+    long long step = 1;
+    bool ordered = true;
+    if (numbers && n.size() == 2) {
+      ordered = n[0] <= n[1];
+      step = slices > 0 ? (n[1] - n[0]) / slices : 0;
+    } else if (numbers && n.size() == 3) {
+      ordered = n[0] <= n[1];
+      step = n[2];
+    }
+    if (!numbers || step <= 0 || !ordered)
+      throw InvalidInput(path + ": its data file pattern '" + data_field +
+                         "' is not '<pattern> <first> <last> <step>' with integers, first <= last and step > 0");
+  }
   const std::string compressed = lower(fields["compresseddata"]);
   if (compressed == "true" || compressed == "1") return;  // sizes checked after reading (memory limit before)
   if (fields.count("headersize") && std::atoll(fields["headersize"].c_str()) < 0) return;  // data at the end

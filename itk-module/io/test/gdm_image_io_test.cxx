@@ -589,6 +589,22 @@ TEST(Fuzz, MetaImageDataFileWithASpaceThatDoesNotExist) {
   write_text(dir / "nul.mha", mha_header("5 4 3", "0.5 1 2", "MET_UCHAR", std::string("LColor\0%Jo 1 2", 14)) +
                                   std::string(60, '\x07'));
   expect_refused(dir / "nul.mha", {"its data file", "LColor does not exist"});
+  // fuzz_image_reader (corpus/fuzz_image_reader/crash_mha_pattern_step_0): a
+  // name with '%' is a file pattern for MetaIO, which divides by its step:
+  // step 0 (or words that are no numbers) ended the process with SIGFPE.
+  write_text(dir / "step0.mhd", mha_header("5 4 3", "0.5 1 2", "MET_UCHAR", "slice%03d.raw 1 3 0"));
+  expect_refused(dir / "step0.mhd", {"data file pattern 'slice%03d.raw 1 3 0'", "step > 0"});
+  write_text(dir / "garbage.mhd", mha_header("5 4 3", "0.5 1 2", "MET_UCHAR", "LOC%lementDataFile = LOC%Jo"));
+  expect_refused(dir / "garbage.mhd", {"data file pattern", "step > 0"});
+  write_text(dir / "backwards.mhd", mha_header("5 4 3", "0.5 1 2", "MET_UCHAR", "slice%03d.raw 3 1 1"));
+  expect_refused(dir / "backwards.mhd", {"data file pattern", "first <= last"});
+  for (int k = 1; k <= 3; ++k) {  // a well-formed pattern still reads
+    char name[32];
+    std::snprintf(name, sizeof name, "slice%03d.raw", k);
+    write_text(dir / name, std::string(20, static_cast<char>(k)));
+  }
+  write_text(dir / "pattern.mhd", mha_header("5 4 3", "0.5 1 2", "MET_UCHAR", "slice%03d.raw 1 3 1"));
+  EXPECT_EQ(gdm::read_volume((dir / "pattern.mhd").string()).max_value(), 3.0);
   // The same name present is read as one file.
   std::string voxels(60, '\x07');
   voxels[5] = '\x30';
