@@ -679,3 +679,29 @@ TEST(Fuzz, NiftiWithANonFiniteOrientationIsRefusedNotAborted) {
   }
   EXPECT_NO_THROW(gdm::read_volume((dir / "v.nii").string()));
 }
+
+// Every input of fuzz_image_reader's committed corpus (test/fuzz/corpus),
+// the crashes it found included, as the fuzz target reads it: the first byte
+// picks the extension, the rest is the file. Each gives a volume or a
+// gdm::Error, never a signal (SIGFPE, abort) or another exception.
+TEST(Fuzz, EveryCorpusInputIsReadOrRefused) {
+  const fs::path dir = work_dir();
+  const char* const extensions[] = {".mha", ".nrrd", ".nii", ".nii.gz", ".vtk"};
+  int inputs = 0;
+  for (const auto& entry : fs::directory_iterator(GDM_FUZZ_CORPUS_DIR)) {
+    const std::string bytes = slurp(entry.path());
+    if (bytes.empty()) continue;
+    const fs::path file = dir / ("input" + std::string(extensions[static_cast<unsigned char>(bytes[0]) % 5]));
+    write_text(file, bytes.substr(1));
+    gdm::ReadOptions options;
+    options.memory_limit = std::uint64_t{64} << 20;
+    try {
+      gdm::read_volume(file.string(), options);
+    } catch (const gdm::Error&) {
+    } catch (const std::exception& e) {
+      ADD_FAILURE() << entry.path().filename() << ": not a gdm::Error: " << e.what();
+    }
+    ++inputs;
+  }
+  EXPECT_GE(inputs, 10);
+}
