@@ -185,7 +185,8 @@ void check_metaimage(const std::string& path, unsigned long long voxels, long do
       n.push_back(v);
     }
     const std::vector<double> dim_size = parse_numbers(fields["dimsize"]);
-    const long long slices = dim_size.empty() ? 0 : static_cast<long long>(dim_size.back());
+    const double last_dim = dim_size.empty() ? 0.0 : dim_size.back();  // NaN or 1e300 when the header lies
+    const long long slices = last_dim >= 1.0 && last_dim < 1e9 ? static_cast<long long>(last_dim) : 0;
     long long step = 1;
     bool ordered = true;
     if (numbers && n.size() == 2) {

@@ -598,6 +598,10 @@ TEST(Fuzz, MetaImageDataFileWithASpaceThatDoesNotExist) {
   expect_refused(dir / "garbage.mhd", {"data file pattern", "step > 0"});
   write_text(dir / "backwards.mhd", mha_header("5 4 3", "0.5 1 2", "MET_UCHAR", "slice%03d.raw 3 1 1"));
   expect_refused(dir / "backwards.mhd", {"data file pattern", "first <= last"});
+  // crash_mha_pattern_dimsize_nan: the step of "<pattern> <first> <last>" is
+  // (last - first) / slices; a DimSize of nan was cast to an integer (UB).
+  write_text(dir / "nan-dims.mhd", mha_header("5 4 nan", "0.5 1 2", "MET_UCHAR", "slice%03d.raw 1 3"));
+  EXPECT_THROW(gdm::read_volume((dir / "nan-dims.mhd").string()), gdm::InvalidInput);
   for (int k = 1; k <= 3; ++k) {  // a well-formed pattern still reads
     char name[32];
     std::snprintf(name, sizeof name, "slice%03d.raw", k);
