@@ -9,6 +9,7 @@ third_party="${GDM_THIRD_PARTY_DIR:-$here/.third_party}"
 
 packages=(
   build-essential cmake ninja-build ccache pkg-config
+  clang-14 libfuzzer-14-dev libclang-rt-14-dev
   libeigen3-dev libgtest-dev libgmock-dev libbenchmark-dev libopenmesh-dev
   libinsighttoolkit5-dev libfftw3-dev libgdcm-tools libvtk9-dev libcgal-dev
   meshlab qtbase5-dev libqt5opengl5-dev libglew-dev xvfb xauth dpkg-dev

@@ -4,8 +4,8 @@
 # (scripts/test-install.sh: a temporary prefix, the downstream projects of
 # test/downstream, the plugin loaded from the prefix, the .deb), the ITK
 # module again as an ITK external module, then the core's tests again under
-# AddressSanitizer + UndefinedBehaviorSanitizer, then a short benchmark run
-# (reported, not asserted).
+# AddressSanitizer + UndefinedBehaviorSanitizer, then the fuzz targets for
+# 30 s each (scripts/fuzz.sh), then a short benchmark run (reported, not asserted).
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 jobs="$(nproc)"
@@ -47,6 +47,12 @@ GDM_BUILD_DIR="$here/build-sanitize" bash "$here/scripts/build.sh" \
 echo "== tests (core, sanitizers)"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --test-dir "$here/build-sanitize" --output-on-failure -j "$jobs" --timeout 1800
+
+# Fuzzing (test/fuzz, libFuzzer): 30 s per target keeps CI inside its budget
+# (three targets: about 1.5 minutes plus the first build of build-fuzz/,
+# some 10 minutes on 2 cores, ccache afterwards); fails on any crash found.
+echo "== fuzzing (30 s per target)"
+bash "$here/scripts/fuzz.sh" 30
 
 echo "== benchmark (short run, reported only)"
 "$here/build/test/benchmark/gdm_core_benchmark" --benchmark_min_time=0.05 2>&1 | grep -v "^\*\*\*WARNING"

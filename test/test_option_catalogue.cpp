@@ -62,8 +62,10 @@ TEST(OptionCatalogue, validate_names_the_option_out_of_range) {
     DeformOptions options;
     options.threshold = 50.0;
     ASSERT_NO_THROW(validate(options, volume));
-    o.set(options, bad);
     try {
+      // An integer or choice field refuses at once a value it cannot hold
+      // (a choice past the last, 2^31 for an int); the others validate() names.
+      o.set(options, bad);
       validate(options, volume);
       ADD_FAILURE() << o.name << " = " << bad << " was accepted";
     } catch (const InvalidOption& e) {

@@ -3,7 +3,11 @@
 // and refuses what cannot work with a typed error that names the problem.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
+#include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "gdm/errors.h"
 #include "gdm/mesh_checks.h"
@@ -181,6 +185,102 @@ TEST(Pipeline, a_seed_mesh_pointing_inwards_is_reversed) {
   ASSERT_TRUE(r.failure.empty()) << r.failure;
   EXPECT_TRUE(r.choices.seed_reversed);
   EXPECT_GT(r.report.volume, 0.0);
+}
+
+// The fuzz target's volume (test/fuzz/fuzz_pipeline.cpp): a ball of 100s in
+// 0s, radius r voxels around voxel c.
+Volume fuzz_blob(Index3 dims, Vec3 spacing, Vec3 c, double r) {
+  std::vector<float> values;
+  for (int z = 0; z < dims[2]; ++z)
+    for (int y = 0; y < dims[1]; ++y)
+      for (int x = 0; x < dims[0]; ++x)
+        values.push_back((Vec3(x, y, z) - c).squaredNorm() <= r * r ? 100.0f : 0.0f);
+  return Volume(dims, values, spacing);
+}
+
+const OptionEntry<PipelineOptions>& pipeline_option(const std::string& name) {
+  for (const auto& e : pipeline_option_catalogue())
+    if (e.name == name) return e;
+  throw std::runtime_error("no option " + name);
+}
+
+// Found by fuzz_pipeline (test/fuzz/corpus/fuzz_pipeline/crash_polarity_nan):
+// the catalogue's setter cast NaN to the Polarity enum (undefined behaviour,
+// UndefinedBehaviorSanitizer stopped there); the same for every integer or
+// choice option and NaN, infinities or 1e300, and value_text() cast a choice's
+// value to int before its range check. Now the setter refuses with
+// InvalidOption naming the option, and real options keep the value for
+// validate() to name.
+TEST(Pipeline, fuzz_option_setters_refuse_values_their_field_cannot_hold) {
+  const Volume volume = fuzz_blob({12, 12, 12}, Vec3(0.7, 0.7, 2.0), Vec3(6, 6, 6), 5.0);
+  PipelineOptions o = quick_options();
+  o.threshold_otsu = false;
+  o.threshold = 0.5;
+  o.deform.global_refinements = 1;
+  pipeline_option("smooth").set(o, std::nan(""));
+  try {
+    pipeline_option("polarity").set(o, std::nan(""));
+    ADD_FAILURE() << "polarity = nan was stored";
+  } catch (const InvalidOption& e) {
+    EXPECT_EQ(e.option(), "polarity");
+    EXPECT_NE(std::string(e.what()).find("polarity must be bright or dark, got nan"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(value_text(pipeline_option("mode"), 1e300), "1e+300");  // the message's value: no cast of 1e300 to int
+  try {
+    extract_surface(volume, o);
+    ADD_FAILURE() << "smooth = nan was accepted";
+  } catch (const InvalidOption& e) {
+    EXPECT_EQ(e.option(), "smooth");
+  }
+  const double hostile[] = {std::nan(""), INFINITY, -INFINITY, 1e300, -1e300, 1e19, 4294967296.0};
+  for (const auto& e : pipeline_option_catalogue()) {
+    for (const double v : hostile) {
+      PipelineOptions p;
+      try {
+        e.set(p, v);
+      } catch (const InvalidOption& error) {
+        EXPECT_EQ(error.option(), e.name);
+        EXPECT_TRUE(e.type == OptionType::integer || e.type == OptionType::choice) << e.name;
+        continue;
+      }
+      // Stored: an integer field holds it exactly (1e19 fits max_faces'
+      // size_t), and validate() names what the range refuses.
+      if (e.type == OptionType::integer || e.type == OptionType::choice) EXPECT_EQ(e.get(p), v) << e.name;
+      if (e.type != OptionType::boolean && !accepts(e, v)) {
+        try {
+          validate(p);
+          ADD_FAILURE() << e.name << " = " << v << " was accepted";
+        } catch (const InvalidOption& error) {
+          EXPECT_EQ(error.option(), e.name);
+        }
+      }
+    }
+  }
+}
+
+// Found by fuzz_pipeline (test/fuzz/corpus/fuzz_pipeline/timeout_smooth_tiny_spacing):
+// smooth 1000 mm on a volume with a spacing of 1e-6 mm made a Gaussian kernel
+// of 4e9 voxels each side (the cast to int overflowed first): a hang. A sigma
+// wider than the volume along an axis is now refused up front.
+TEST(Pipeline, fuzz_smoothing_wider_than_the_volume_is_refused_at_once) {
+  const Volume volume = fuzz_blob({10, 7, 8}, Vec3(1e-6, 1.0, 1.0), Vec3(5, 3, 4), 3.0);
+  PipelineOptions o = quick_options();
+  o.time_limit = 1.0;
+  for (const double smooth : {1000.0, 1.0, 2e-5}) {
+    o.smooth = smooth;
+    const auto start = std::chrono::steady_clock::now();
+    try {
+      extract_surface(volume, o);
+      ADD_FAILURE() << "smooth " << smooth << " on a 1e-6 mm spacing was accepted";
+    } catch (const InvalidOption& e) {
+      EXPECT_EQ(e.option(), "smooth");
+      EXPECT_NE(std::string(e.what()).find("wider than the volume's 10 voxels"), std::string::npos) << e.what();
+    }
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 1.0);
+  }
+  // Narrower than the volume on every axis: smoothed as before.
+  o.smooth = 5e-6;
+  EXPECT_NO_THROW(gaussian_smooth(volume, o.smooth));
 }
 
 TEST(Pipeline, progress_is_monotone_below_one_and_can_cancel) {

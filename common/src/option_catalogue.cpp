@@ -41,9 +41,12 @@ Entry bind(Entry e, OptionType type, double lo, bool lo_open, double hi, bool hi
     if constexpr (std::is_enum_v<T>) return static_cast<double>(static_cast<int>(v));
     else return static_cast<double>(v);
   };
-  e.set = [field](DeformOptions& o, double v) {
-    if constexpr (std::is_enum_v<T>) field(o) = static_cast<T>(static_cast<int>(v));
-    else if constexpr (std::is_same_v<T, bool>) field(o) = v != 0.0;
+  // The row as far as the range goes (special values and aliases, added
+  // later, concern real options only): what an integer setter checks against.
+  const OptionInfo info = e;
+  e.set = [field, info](DeformOptions& o, double v) {
+    if constexpr (std::is_same_v<T, bool>) field(o) = v != 0.0;
+    else if constexpr (std::is_enum_v<T> || std::is_integral_v<T>) field(o) = integer_field_value<T>(info, v);
     else field(o) = static_cast<T>(v);
   };
   return e;
@@ -163,8 +166,9 @@ std::string range_text(const OptionInfo& o) {
 std::string value_text(const OptionInfo& o, double v) {
   if (o.type == OptionType::boolean) return v != 0.0 ? "on" : "off";
   if (o.type == OptionType::choice) {
-    const int i = static_cast<int>(v);
-    return i >= 0 && i < static_cast<int>(o.choices.size()) ? o.choices[i] : number(v);
+    // No cast before the range check: NaN or 1e300 has no int (found by fuzz_pipeline).
+    if (v >= 0.0 && v < static_cast<double>(o.choices.size())) return o.choices[static_cast<std::size_t>(v)];
+    return number(v);
   }
   return number(v);
 }

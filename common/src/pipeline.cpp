@@ -36,6 +36,10 @@ std::vector<OptionEntry<PipelineOptions>> make_pipeline_catalogue() {
     e.hi = hi;
     e.get = std::move(get);
     e.set = std::move(set);
+    if (type == OptionType::integer)  // no cast of a value an int cannot hold (NaN, inf, 1e300)
+      e.set = [info = static_cast<const OptionInfo&>(e), set = std::move(e.set)](PipelineOptions& o, double v) {
+        set(o, static_cast<double>(integer_field_value<int>(info, v)));
+      };
     return e;
   };
   std::vector<OptionEntry<PipelineOptions>> rows = {

@@ -17,13 +17,17 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <limits>
 #include <map>
+#include <memory>
 #include <sstream>
+#include <type_traits>
 
 #include "gdm/image_io.h"
 
@@ -145,7 +149,10 @@ void check_metaimage(const std::string& path, unsigned long long voxels, long do
     const auto eq = line.find('=');
     if (eq == std::string::npos) continue;
     const std::string key = lower(trim(line.substr(0, eq)));
-    fields[key] = trim(line.substr(eq + 1));
+    // MetaIO keeps a value as a C string: it ends at a NUL byte (found by
+    // fuzz_image_reader: "LColor\0%..." is the file LColor, not a pattern).
+    const std::string value = line.substr(eq + 1);
+    fields[key] = trim(value.substr(0, value.find('\0')));
     if (key == "elementdatafile") {
       header_end = in.tellg();
       break;
@@ -158,6 +165,41 @@ void check_metaimage(const std::string& path, unsigned long long voxels, long do
   else if (fields.count("elementsize"))
     check_header_spacing(path, "ElementSize", parse_numbers(fields["elementsize"]), ndims);
   if (expected < 0) return;
+  const std::string data_field = fields["elementdatafile"];
+  if (data_field.find('%') != std::string::npos && lower(data_field).rfind("list", 0) != 0) {
+    // A file pattern "<printf pattern> [first [last [step]]]": MetaIO takes
+    // the step from the words (3 words: (last - first) / slices, integer
+    // division) and divides by it and loops by it: a step of 0 ended the
+    // process with SIGFPE (found by fuzz_image_reader). Only integer words,
+    // a step > 0 and first <= last are accepted.
+    std::istringstream words(data_field);
+    std::vector<std::string> w;
+    for (std::string x; words >> x;) w.push_back(x);
+    std::vector<long long> n;
+    bool numbers = w.size() <= 4;
+    for (std::size_t i = 1; i < w.size() && numbers; ++i) {
+      char* end = nullptr;
+      errno = 0;
+      const long long v = std::strtoll(w[i].c_str(), &end, 10);
+      numbers = errno == 0 && *end == '\0' && v > -(1LL << 30) && v < (1LL << 30);
+      n.push_back(v);
+    }
+    const std::vector<double> dim_size = parse_numbers(fields["dimsize"]);
+    const double last_dim = dim_size.empty() ? 0.0 : dim_size.back();  // NaN or 1e300 when the header lies
+    const long long slices = last_dim >= 1.0 && last_dim < 1e9 ? static_cast<long long>(last_dim) : 0;
+    long long step = 1;
+    bool ordered = true;
+    if (numbers && n.size() == 2) {
+      ordered = n[0] <= n[1];
+      step = slices > 0 ? (n[1] - n[0]) / slices : 0;
+    } else if (numbers && n.size() == 3) {
+      ordered = n[0] <= n[1];
+      step = n[2];
+    }
+    if (!numbers || step <= 0 || !ordered)
+      throw InvalidInput(path + ": its data file pattern '" + data_field +
+                         "' is not '<pattern> <first> <last> <step>' with integers, first <= last and step > 0");
+  }
   const std::string compressed = lower(fields["compresseddata"]);
   if (compressed == "true" || compressed == "1") return;  // sizes checked after reading (memory limit before)
   if (fields.count("headersize") && std::atoll(fields["headersize"].c_str()) < 0) return;  // data at the end
@@ -168,8 +210,10 @@ void check_metaimage(const std::string& path, unsigned long long voxels, long do
     const long long size = file_size(path);
     const long double held = static_cast<long double>(size - header_end);
     if (held < expected) throw InvalidInput(voxel_claim(path, voxels, expected, held, "the file"));
-  } else if (!data.empty() && data.find('%') == std::string::npos && data.find(' ') == std::string::npos &&
-             lower(data) != "list") {
+  } else if (!data.empty() && data.find('%') == std::string::npos && lower(data).rfind("list", 0) != 0) {
+    // One data file (MetaIO reads a name without '%' and not LIST as one
+    // file, spaces included). A missing one is refused here: ITK 5.2's
+    // MetaIO leaks its stream when it cannot open it (found by fuzz_image_reader).
     const std::string raw = resolve(path, data);
     const long long size = file_size(raw);
     if (size < 0) throw InvalidInput(path + ": its data file " + raw + " does not exist");
@@ -266,12 +310,19 @@ T get(const unsigned char* p, bool swap) {
 // for gzip data the size of what the stream really inflates to.
 void check_nifti(const std::string& path, unsigned long long voxels, long double expected) {
   const bool pair = ends_with(path, ".hdr") || ends_with(path, ".hdr.gz");
-  gzFile f = gzopen(path.c_str(), "rb");
+  // Closed on every path, a throw included (check_header_spacing throws with
+  // the stream open: an open file and zlib's buffers lost per bad header,
+  // found by fuzz_image_reader).
+  struct GzClose {
+    void operator()(gzFile f) const { gzclose(f); }
+  };
+  std::unique_ptr<std::remove_pointer_t<gzFile>, GzClose> file(gzopen(path.c_str(), "rb"));
+  gzFile f = file.get();
   if (!f) return;
   unsigned char h[540];
   const int got = gzread(f, h, sizeof h);
   if (got < 348) {
-    gzclose(f);
+    file.reset();
     throw InvalidInput(path + ": the NIfTI header is truncated (" + std::to_string(std::max(got, 0)) +
                        " bytes; a NIfTI-1 header has 348)");
   }
@@ -281,8 +332,16 @@ void check_nifti(const std::string& path, unsigned long long voxels, long double
   else if (get<std::int32_t>(h, true) == 348) version = 1, swap = true;
   else if (get<std::int32_t>(h, false) == 540) version = 2;
   else if (get<std::int32_t>(h, true) == 540) version = 2, swap = true;
+  else {
+    // Another sizeof_hdr: niftilib (inside ITK) still reads a NIfTI-1 /
+    // Analyze header, its byte order told by dim[0] (1 to 7), so check it
+    // the same way (found by fuzz_image_reader: sizeof_hdr 476 and a NaN sform).
+    const auto plausible = [](std::int16_t d0) { return d0 >= 1 && d0 <= 7; };
+    if (plausible(get<std::int16_t>(h + 40, false))) version = 1;
+    else if (plausible(get<std::int16_t>(h + 40, true))) version = 1, swap = true;
+  }
   if (version == 0 || (version == 2 && got < 540)) {
-    gzclose(f);
+    file.reset();
     return;  // ITK accepted it: leave it to ITK
   }
   std::vector<double> pixdim(3);
@@ -298,12 +357,37 @@ void check_nifti(const std::string& path, unsigned long long voxels, long double
     offset = static_cast<long double>(get<std::int64_t>(h + 168, swap));
   }
   check_header_spacing(path, "pixdim", pixdim, std::min<std::size_t>(ndim, 3));
+  // The orientation ITK takes (the sform when sform_code > 0, else the qform
+  // when qform_code > 0) must be finite: ITK 5.2 runs an SVD on it, and vnl
+  // aborts the process on a NaN or infinite entry (found by fuzz_image_reader).
+  const int qform_code = version == 1 ? get<std::int16_t>(h + 252, swap) : get<std::int32_t>(h + 344, swap);
+  const int sform_code = version == 1 ? get<std::int16_t>(h + 254, swap) : get<std::int32_t>(h + 348, swap);
+  const auto field = [&](int i1, int i2) {  // float i of NIfTI-1 at byte i1, double of NIfTI-2 at i2
+    return version == 1 ? static_cast<double>(get<float>(h + i1, swap)) : get<double>(h + i2, swap);
+  };
+  const auto check_finite = [&](const char* name, int i1, int i2, int count) {
+    for (int i = 0; i < count; ++i) {
+      const double v = field(i1 + 4 * i, i2 + 8 * i);
+      if (!(std::abs(v) <= std::numeric_limits<float>::max()))
+        throw InvalidInput(path + ": the NIfTI header's " + name + "[" + std::to_string(i) + "] is " + number(v) +
+                           "; the orientation must be finite");
+    }
+  };
+  if (sform_code > 0) {
+    check_finite("srow_x", 280, 400, 4);
+    check_finite("srow_y", 296, 432, 4);
+    check_finite("srow_z", 312, 464, 4);
+  }
+  if (qform_code > 0) {
+    check_finite("quatern_b/c/d", 256, 352, 3);
+    check_finite("qoffset_x/y/z", 268, 376, 3);
+  }
   if (expected < 0) {
-    gzclose(f);
+    file.reset();
     return;
   }
   if (pair) {
-    gzclose(f);
+    file.reset();
     std::string img = path.substr(0, path.size() - (ends_with(path, ".gz") ? 7 : 4)) + ".img";
     const long long size = file_size(img);
     if (size >= 0 && expected > size)
@@ -319,14 +403,14 @@ void check_nifti(const std::string& path, unsigned long long voxels, long double
     int code = Z_OK;
     const char* message = gzerror(f, &code);
     const std::string error = n < 0 || (code != Z_OK && code != Z_STREAM_END) ? std::string(message ? message : "") : "";
-    gzclose(f);
+    file.reset();
     if (total < offset + expected)
       throw InvalidInput(voxel_claim(path, voxels, expected, std::max<long double>(0, total - offset),
                                      "the gzip stream") + (error.empty() ? "" : " (zlib: " + error + ")"));
     if (!error.empty()) throw InvalidInput(path + ": the gzip stream is corrupt (zlib: " + error + ")");
     return;
   }
-  gzclose(f);
+  file.reset();
   const long double held = static_cast<long double>(file_size(path)) - offset;
   if (held < expected) throw InvalidInput(voxel_claim(path, voxels, expected, std::max<long double>(0, held), "the file"));
 }

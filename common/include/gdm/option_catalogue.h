@@ -10,9 +10,11 @@
 #include <functional>
 #include <limits>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "gdm/deformer.h"
+#include "gdm/errors.h"
 
 namespace gdm {
 
@@ -36,7 +38,11 @@ struct OptionInfo {
 };
 
 // An option of the struct `Options` (DeformOptions, PipelineOptions): its
-// value as a double (booleans 0/1, choices their index).
+// value as a double (booleans 0/1, choices their index). `set` stores any
+// value a real field can hold (validate() names it later when out of range);
+// for an integer or choice field it throws InvalidOption (check_option's
+// message) when the value has no such integer (NaN, infinite, beyond the
+// field's type, a choice past the last), where a cast would be undefined.
 template <typename Options>
 struct OptionEntry : OptionInfo {
   std::function<double(const Options&)> get;
@@ -54,6 +60,29 @@ std::string value_text(const OptionInfo& option, double value);
 
 // Throws InvalidOption(option.name, "<name> must be <range>, got <value>") unless accepted.
 void check_option(const OptionInfo& option, double value);
+
+// The value `value` of `option` as the integer type T of its field (an
+// integral or enumeration type); throws InvalidOption (check_option's
+// message) when T has no such value, or for an enumeration when the value is
+// outside [option.lo, option.hi]. Used by the catalogues' setters.
+template <typename T>
+T integer_field_value(const OptionInfo& option, double value) {
+  bool fits;
+  if constexpr (std::is_enum_v<T>) {
+    fits = value >= option.lo && value <= option.hi;
+  } else {
+    // lowest() and max() + 1 are powers of two (or 0), exact as doubles.
+    const double lo = static_cast<double>(std::numeric_limits<T>::lowest());
+    const double past_max = static_cast<double>(std::numeric_limits<T>::max() / 2 + 1) * 2.0;
+    fits = value >= lo && value < past_max;
+  }
+  if (!fits) {
+    check_option(option, value);
+    throw InvalidOption(option.name, option.name + " must be " + range_text(option) + ", got a value its field cannot hold");
+  }
+  if constexpr (std::is_enum_v<T>) return static_cast<T>(static_cast<std::underlying_type_t<T>>(value));
+  else return static_cast<T>(value);
+}
 
 // The options of gdm::deform, in the order of DeformOptions.
 const std::vector<OptionEntry<DeformOptions>>& deform_option_catalogue();

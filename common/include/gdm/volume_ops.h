@@ -20,8 +20,9 @@ Volume crop(const Volume& volume, const VoxelBox& box);
 
 // Separable Gaussian smoothing, sigma in mm (per axis sigma / spacing voxels),
 // the kernel truncated at 4 sigma and normalised, borders clamped (the edge
-// voxel repeats). sigma == 0 returns a copy; a negative or non-finite sigma
-// throws InvalidOption naming "smooth".
+// voxel repeats). sigma == 0 returns a copy; a negative or non-finite sigma,
+// or one wider (in voxels) than the volume along an axis, throws
+// InvalidOption naming "smooth".
 Volume gaussian_smooth(const Volume& volume, double sigma_mm);
 
 // Otsu's threshold between the volume's two classes from a `bins`-bin
