@@ -1342,3 +1342,27 @@ TEST(Hostile, TimeLimitEndsTheRun) {
   for (const auto& entry : fs::directory_iterator(dir))
     EXPECT_EQ(entry.path().string().find(".tmp-"), std::string::npos) << entry.path();
 }
+
+// gdm wrap as gdm: no output may overwrite its input (exit 2, the input
+// untouched), and the report goes with its mesh (a failed mesh write, exit 5,
+// leaves no report).
+TEST(Hostile, WrapOutputsNeverOverwriteTheInput) {
+  const fs::path dir = work_dir();
+  gdm::write_mesh(gdm::make_geodesic_sphere(gdm::Vec3(0, 0, 0), 5.0, 1), (dir / "in.obj").string());
+  const std::string before = slurp(dir / "in.obj");
+  expect_refused(dir, {"wrap", "in.obj", "-o", "in.obj", "--tolerance", "1"}, 2, "--output in.obj is the input");
+  expect_refused(dir, {"wrap", "in.obj", "-o", "w.ply", "--report", "./in.obj", "--tolerance", "1"}, 2,
+                 "--report ./in.obj is the input");
+  expect_refused(dir, {"wrap", "in.obj", "-o", "w.vtk", "--report", "w.vtk", "--tolerance", "1"}, 2,
+                 "--report and --output name the same file");
+  EXPECT_EQ(slurp(dir / "in.obj"), before);
+  fs::create_directory(dir / "w.ply");
+  expect_refused(dir, {"wrap", "in.obj", "-o", "w.ply", "--report", "w.json", "--tolerance", "1", "--quiet"}, 5,
+                 "w.ply");
+  EXPECT_FALSE(fs::exists(dir / "w.json")) << "a failed mesh write left the report";
+  fs::remove(dir / "w.ply");
+  fs::create_directory(dir / "w.json");
+  expect_refused(dir, {"wrap", "in.obj", "-o", "w.ply", "--report", "w.json", "--tolerance", "1", "--quiet"}, 5,
+                 "w.json");
+  EXPECT_FALSE(fs::exists(dir / "w.ply")) << "a failed report write left the mesh";
+}
