@@ -1307,8 +1307,8 @@ TEST(Hostile, VtkImageClaimingHugePointCount) {
       << "# vtk DataFile Version 3.0\nhostile\nBINARY\nDATASET STRUCTURED_POINTS\nDIMENSIONS 10000 10000 1000\n"
       << "SPACING 1 1 1\nORIGIN 0 0 0\nPOINT_DATA 100000000000\nSCALARS s short 1\nLOOKUP_TABLE default\n"
       << std::string(4096, '\x01');
-  expect_failure(dir, {"huge.vtk"}, 3, "huge.vtk");
-  expect_failure(dir, {"huge.vtk", "--memory-limit", "0"}, 3, "huge.vtk");
+  expect_failure(dir, {"huge.vtk"}, 3, "huge.vtk: the header claims 100000000000 voxels");
+  expect_failure(dir, {"huge.vtk", "--memory-limit", "0"}, 3, "huge.vtk: the header claims 100000000000 voxels");
   std::ofstream(dir / "points.vtk", std::ios::binary)
       << "# vtk DataFile Version 3.0\nhostile\nASCII\nDATASET POLYDATA\nPOINTS 100000000000 float\n0 0 0\n";
   expect_failure(dir, {"points.vtk"}, 3, "points.vtk");
