@@ -36,6 +36,7 @@ echo "   built in $(( $(date +%s) - sanitize_start )) s"
 echo "== tests (core, pipeline, image reader, gdm command; sanitizers)"
 tests_start=$(date +%s)
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+  LSAN_OPTIONS="suppressions=$here/scripts/lsan-suppressions.txt" \
   ctest --test-dir "$sanitize" --output-on-failure -j "$jobs" --timeout 1800 \
   -E '^(itkGeometricallyDeformedModelGTestDriver_NOT_BUILT|itkGDMDicomExample)$'
 echo "   tests ran in $(( $(date +%s) - tests_start )) s (sanitizer stage: $(( $(date +%s) - sanitize_start )) s)"

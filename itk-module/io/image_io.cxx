@@ -265,14 +265,27 @@ T get(const unsigned char* p, bool swap) {
 
 // NIfTI-1/-2 (.nii, .nii.gz; .hdr/.img pairs): pixdim, and the data size,
 // for gzip data the size of what the stream really inflates to.
+// Closes a gzFile when it goes out of scope (or at close()).
+struct GzCloser {
+  gzFile f;
+  GzCloser(const GzCloser&) = delete;
+  GzCloser& operator=(const GzCloser&) = delete;
+  ~GzCloser() { close(); }
+  void close() {
+    if (f) gzclose(f);
+    f = nullptr;
+  }
+};
+
 void check_nifti(const std::string& path, unsigned long long voxels, long double expected) {
   const bool pair = ends_with(path, ".hdr") || ends_with(path, ".hdr.gz");
   gzFile f = gzopen(path.c_str(), "rb");
   if (!f) return;
+  GzCloser closer{f};  // also when a check below throws
   unsigned char h[540];
   const int got = gzread(f, h, sizeof h);
   if (got < 348) {
-    gzclose(f);
+    closer.close();
     throw InvalidInput(path + ": the NIfTI header is truncated (" + std::to_string(std::max(got, 0)) +
                        " bytes; a NIfTI-1 header has 348)");
   }
@@ -283,7 +296,7 @@ void check_nifti(const std::string& path, unsigned long long voxels, long double
   else if (get<std::int32_t>(h, false) == 540) version = 2;
   else if (get<std::int32_t>(h, true) == 540) version = 2, swap = true;
   if (version == 0 || (version == 2 && got < 540)) {
-    gzclose(f);
+    closer.close();
     return;  // ITK accepted it: leave it to ITK
   }
   std::vector<double> pixdim(3);
@@ -300,11 +313,11 @@ void check_nifti(const std::string& path, unsigned long long voxels, long double
   }
   check_header_spacing(path, "pixdim", pixdim, std::min<std::size_t>(ndim, 3));
   if (expected < 0) {
-    gzclose(f);
+    closer.close();
     return;
   }
   if (pair) {
-    gzclose(f);
+    closer.close();
     std::string img = path.substr(0, path.size() - (ends_with(path, ".gz") ? 7 : 4)) + ".img";
     const long long size = file_size(img);
     if (size >= 0 && expected > size)
@@ -320,14 +333,14 @@ void check_nifti(const std::string& path, unsigned long long voxels, long double
     int code = Z_OK;
     const char* message = gzerror(f, &code);
     const std::string error = n < 0 || (code != Z_OK && code != Z_STREAM_END) ? std::string(message ? message : "") : "";
-    gzclose(f);
+    closer.close();
     if (total < offset + expected)
       throw InvalidInput(voxel_claim(path, voxels, expected, std::max<long double>(0, total - offset),
                                      "the gzip stream") + (error.empty() ? "" : " (zlib: " + error + ")"));
     if (!error.empty()) throw InvalidInput(path + ": the gzip stream is corrupt (zlib: " + error + ")");
     return;
   }
-  gzclose(f);
+  closer.close();
   const long double held = static_cast<long double>(file_size(path)) - offset;
   if (held < expected) throw InvalidInput(voxel_claim(path, voxels, expected, std::max<long double>(0, held), "the file"));
 }
