@@ -562,6 +562,14 @@ TEST(Hostile, NiftiSpacingZeroNegativeNaN) {
     itk_alone(dir / name);
     expect_refused(dir / name, {"spacing (pixdim) along axis 1", "positive finite"});
   }
+  // A refusal closes the file it checked (the header check once leaked its
+  // gzFile, a descriptor per refused file; LeakSanitizer found it).
+  const auto open_files = [] {
+    return std::distance(fs::directory_iterator("/proc/self/fd"), fs::directory_iterator{});
+  };
+  const auto before = open_files();
+  for (int i = 0; i < 20; ++i) EXPECT_THROW(gdm::read_volume((dir / "zero.nii").string()), gdm::InvalidInput);
+  EXPECT_EQ(open_files(), before);
 }
 
 // ---------------------------------------------- e. not a regular file --
