@@ -2,9 +2,13 @@
 // with gdm::InvalidInput (never a crash, never a huge allocation).
 #include <gtest/gtest.h>
 
+#include <signal.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -278,6 +282,103 @@ TEST(MeshIo, unknown_extension_and_unwritable_folder) {
   EXPECT_THROW(gdm::write_mesh(mesh, "/nonexistent-folder/mesh.ply"), gdm::Error);
   EXPECT_TRUE(gdm::is_supported_mesh_extension("A.PLY"));
   EXPECT_EQ(gdm::file_extension("/a.b/scan.nii.gz"), ".nii.gz");
+}
+
+// Issue 13, item 9: a FIFO would block the open forever, a folder has nothing
+// to read: both refused at once, saying what they are.
+TEST(MeshIo, fifo_or_folder_is_refused_at_once) {
+  const fs::path d = scratch();
+  fs::create_directory(d / "folder.obj");
+  expect_invalid(d / "folder.obj", "not a regular file: it is a folder");
+  ASSERT_EQ(::mkfifo((d / "pipe.off").c_str(), 0600), 0);
+  const auto start = std::chrono::steady_clock::now();
+  expect_invalid(d / "pipe.off", "not a regular file: it is a FIFO (named pipe)");
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 5.0);
+  fs::remove_all(d);
+}
+
+// Issue 13, item 10: SIGTERM, SIGINT or SIGHUP while write_file_atomically is
+// inside its body removes the temporary file; the target is not created and
+// the process still ends by that signal. A child process blocks in the body.
+TEST(MeshIo, interrupted_write_leaves_no_temporary_file) {
+  const fs::path d = scratch();
+  for (const int sig : {SIGTERM, SIGINT, SIGHUP}) {
+    SCOPED_TRACE(sig);
+    const fs::path target = d / ("out" + std::to_string(sig) + ".ply");
+    int ready[2];
+    ASSERT_EQ(::pipe(ready), 0);
+    const pid_t child = ::fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+      ::close(ready[0]);
+      // As on a terminal (a background job of a script ignores SIGINT).
+      ::signal(sig, SIG_DFL);
+      gdm::remove_on_interrupt_install();
+      gdm::write_file_atomically(target.string(), true, [&](std::ostream& o) {
+        o << std::string(1 << 20, 'x') << std::flush;
+        const char byte = 1;
+        if (::write(ready[1], &byte, 1) != 1) ::_exit(3);
+        for (;;) ::pause();
+      });
+      ::_exit(2);  // not reached: the body never returns
+    }
+    ::close(ready[1]);
+    char byte = 0;
+    ASSERT_EQ(::read(ready[0], &byte, 1), 1) << "the child did not start writing";
+    ::close(ready[0]);
+    const fs::path temporary = target.string() + ".tmp-" + std::to_string(child);
+    EXPECT_TRUE(fs::exists(temporary)) << "the write is in flight";
+    ASSERT_EQ(::kill(child, sig), 0);
+    int status = 0;
+    ASSERT_EQ(::waitpid(child, &status, 0), child);
+    EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == sig) << "status " << status;
+    EXPECT_FALSE(fs::exists(temporary));
+    EXPECT_FALSE(fs::exists(target));
+  }
+  for (const auto& entry : fs::directory_iterator(d)) ADD_FAILURE() << "left behind: " << entry.path();
+  fs::remove_all(d);
+}
+
+// A signal the program ignores (nohup's SIGHUP) stays ignored; a guard lists
+// any path (the gdm command's report while its mesh is written).
+TEST(MeshIo, ignored_signals_stay_ignored_and_guards_remove_listed_files) {
+  const fs::path d = scratch();
+  const fs::path report = d / "report.json";
+  const fs::path target = d / "out.ply";
+  int ready[2];
+  ASSERT_EQ(::pipe(ready), 0);
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    ::close(ready[0]);
+    ::signal(SIGTERM, SIG_DFL);
+    ::signal(SIGHUP, SIG_IGN);
+    gdm::remove_on_interrupt_install();
+    gdm::write_file_atomically(report.string(), false, [](std::ostream& o) { o << "{}\n"; });
+    gdm::RemoveOnInterrupt keep_report_only_with_the_mesh(report.string());
+    gdm::write_file_atomically(target.string(), true, [&](std::ostream& o) {
+      o << "partial" << std::flush;
+      const char byte = 1;
+      if (::write(ready[1], &byte, 1) != 1) ::_exit(3);
+      for (;;) ::pause();
+    });
+    ::_exit(2);
+  }
+  ::close(ready[1]);
+  char byte = 0;
+  ASSERT_EQ(::read(ready[0], &byte, 1), 1);
+  ::close(ready[0]);
+  EXPECT_TRUE(fs::exists(report));
+  ASSERT_EQ(::kill(child, SIGHUP), 0);
+  ::usleep(200 * 1000);
+  int status = 0;
+  EXPECT_EQ(::waitpid(child, &status, WNOHANG), 0) << "an ignored SIGHUP ended the process";
+  EXPECT_TRUE(fs::exists(target.string() + ".tmp-" + std::to_string(child)));
+  ASSERT_EQ(::kill(child, SIGTERM), 0);
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGTERM) << "status " << status;
+  for (const auto& entry : fs::directory_iterator(d)) ADD_FAILURE() << "left behind: " << entry.path();
+  fs::remove_all(d);
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 // smoothing and Otsu's threshold, on generated volumes.
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <numeric>
 #include <random>
 #include <string>
@@ -195,4 +196,48 @@ TEST(PipelineOtsu, refuses_a_constant_volume) {
   const Volume v = filled({4, 4, 4}, [](int, int, int) { return 5.0f; });
   EXPECT_THROW(gdm::otsu_threshold(v), gdm::InvalidVolume);
   EXPECT_NE(message_of([&] { gdm::otsu_threshold(v); }).find("constant"), std::string::npos);
+}
+
+// Issue 13, item 9: values near FLT_MAX overflowed ITK's float bin width (inf
+// threshold); the threshold is finite and separates the two classes.
+TEST(PipelineOtsu, values_near_float_max_give_a_finite_threshold_between_the_classes) {
+  const float big = 3e38f;
+  const auto inside = [](int i, int j, int k) { return i >= 2 && i < 6 && j >= 2 && j < 6 && k >= 2 && k < 6; };
+  struct Case {
+    const char* name;
+    std::function<float(int, int, int)> value;
+    float low, high;  // the two classes
+  };
+  const Case cases[] = {
+      {"-3e38 and 3e38", [&](int i, int j, int k) { return inside(i, j, k) ? big : -big; }, -big, big},
+      {"1e38 but one voxel", [](int i, int j, int k) { return i + j + k == 0 ? 0.0f : 1e38f; }, 0.0f, 1e38f},
+      {"FLT_MAX but one voxel",
+       [](int i, int j, int k) { return i + j + k == 0 ? 0.0f : std::numeric_limits<float>::max(); }, 0.0f,
+       std::numeric_limits<float>::max()},
+      {"-FLT_MAX and FLT_MAX",
+       [&](int i, int j, int k) {
+         return inside(i, j, k) ? std::numeric_limits<float>::max() : std::numeric_limits<float>::lowest();
+       },
+       std::numeric_limits<float>::lowest(), std::numeric_limits<float>::max()},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    const Volume v = filled({8, 8, 8}, c.value);
+    const double t = gdm::otsu_threshold(v);
+    EXPECT_TRUE(std::isfinite(t)) << t;
+    EXPECT_GE(t, static_cast<double>(c.low));
+    EXPECT_LT(t, static_cast<double>(c.high));
+    EXPECT_EQ(t, static_cast<double>(static_cast<float>(t))) << "a float, as ITK's";
+  }
+}
+
+// Below the overflow the float bins (ITK's) are kept: the same threshold as a
+// scaled copy of returns_the_upper_edge_of_a_bin.
+TEST(PipelineOtsu, large_values_that_fit_keep_the_float_bins) {
+  const Volume v = filled({4, 4, 4}, [](int i, int, int) { return i < 2 ? 0.0f : 1e37f; });
+  const double t = gdm::otsu_threshold(v);
+  const double hi = 1e37f;
+  const double upper = hi + (hi / 256) / 100;
+  const float interval = (static_cast<float>(upper) - 0.0f) / 256.0f;
+  EXPECT_EQ(t, static_cast<double>(static_cast<float>(interval)));
 }

@@ -1,8 +1,11 @@
 #include "gdm/mesh_io.h"
 
+#include <signal.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <cctype>
 #include <cmath>
@@ -118,10 +121,76 @@ void write_vtk(std::ostream& out, const MeshFileData& m) {
   for (std::size_t i = 0; i < m.points.size(); ++i) out << m.generation[i] << '\n';
 }
 
+// ------------------------------------------------- interrupted writes --
+// The files to remove when SIGINT, SIGTERM or SIGHUP ends the process: a fixed
+// table (no allocation, no lock), read by an async-signal-safe handler.
+constexpr int kInterruptSlots = 32;
+constexpr std::size_t kInterruptPathMax = 4096;
+char g_interrupt_paths[kInterruptSlots][kInterruptPathMax];
+std::atomic<int> g_interrupt_state[kInterruptSlots];  // 0 free, 1 being filled, 2 listed
+static_assert(std::atomic<int>::is_always_lock_free, "the signal handler needs lock-free atomics");
+constexpr int kInterruptSignals[] = {SIGINT, SIGTERM, SIGHUP};
+
+void remove_listed_files(int sig) {
+  const int saved_errno = errno;
+  for (int i = 0; i < kInterruptSlots; ++i)
+    if (g_interrupt_state[i].load() == 2) ::unlink(g_interrupt_paths[i]);
+  errno = saved_errno;
+  // SA_RESETHAND restored the default action; the signal is blocked in here,
+  // so it ends the process (as that signal) when the handler returns.
+  ::raise(sig);
+}
+
+bool install_interrupt_handlers() {
+  struct sigaction action {};
+  action.sa_handler = remove_listed_files;
+  action.sa_flags = SA_RESETHAND;
+  sigemptyset(&action.sa_mask);
+  for (const int sig : kInterruptSignals) sigaddset(&action.sa_mask, sig);
+  for (const int sig : kInterruptSignals) {
+    struct sigaction current {};
+    if (::sigaction(sig, nullptr, &current) != 0) continue;
+    // A program's own handler, or an ignored signal (nohup), is left alone;
+    // so is ours when it is already there.
+    if (current.sa_handler != SIG_DFL || (current.sa_flags & SA_SIGINFO) != 0) continue;
+    ::sigaction(sig, &action, nullptr);
+  }
+  return true;
+}
+
+void ensure_interrupt_handlers() {
+  static const bool installed = install_interrupt_handlers();  // once, thread-safe
+  (void)installed;
+}
+
 }  // namespace
+
+void remove_on_interrupt_install() { install_interrupt_handlers(); }
+
+RemoveOnInterrupt::RemoveOnInterrupt(const std::string& path) {
+  ensure_interrupt_handlers();
+  if (path.empty() || path.size() >= kInterruptPathMax) return;  // cannot be listed: left unguarded
+  for (int i = 0; i < kInterruptSlots; ++i) {
+    int expected = 0;
+    if (!g_interrupt_state[i].compare_exchange_strong(expected, 1)) continue;
+    std::memcpy(g_interrupt_paths[i], path.c_str(), path.size() + 1);
+    g_interrupt_state[i].store(2);
+    slot_ = i;
+    return;
+  }
+}
+
+void RemoveOnInterrupt::release() {
+  if (slot_ >= 0) g_interrupt_state[slot_].store(0);
+  slot_ = -1;
+}
+
+RemoveOnInterrupt::~RemoveOnInterrupt() { release(); }
 
 void write_file_atomically(const std::string& path, bool binary, const std::function<void(std::ostream&)>& body) {
   const std::string temporary = path + ".tmp-" + std::to_string(::getpid());
+  // Listed before it exists, unlisted once renamed: an interrupt never leaves it.
+  RemoveOnInterrupt guard(temporary);
   {
     std::ofstream out(temporary, binary ? std::ios::binary : std::ios::out);
     if (!out) throw Error("cannot write " + path + ": " + std::strerror(errno));
@@ -739,6 +808,16 @@ MeshFileData read_mesh_file(const std::string& path) {
   const std::string e = file_extension(path);
   if (!is_supported_mesh_extension(path))
     throw InvalidOption("cannot read '" + path + "': unknown mesh extension (use .ply, .obj, .stl, .off or .vtk)");
+  // Only a regular file is opened: a FIFO would block the open, a folder or a
+  // device has no size to read.
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) bad(path, std::string("cannot open the file: ") + std::strerror(errno));
+  if (!S_ISREG(st.st_mode))
+    bad(path, std::string("not a regular file: it is ") +
+                  (S_ISDIR(st.st_mode)    ? "a folder"
+                   : S_ISFIFO(st.st_mode) ? "a FIFO (named pipe)"
+                   : S_ISSOCK(st.st_mode) ? "a socket"
+                                          : "a device"));
   std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) bad(path, std::string("cannot open the file: ") + std::strerror(errno));
   const std::streamoff size = in.tellg();

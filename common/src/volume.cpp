@@ -93,7 +93,14 @@ double Volume::sample(const Vec3& physical) const {
   const double c11 = p[sz + sy] + fx * (p[sz + sy + sx] - p[sz + sy]);
   const double c0 = c00 + fy * (c10 - c00);
   const double c1 = c01 + fy * (c11 - c01);
-  return c0 + fz * (c1 - c0);
+  const double r = c0 + fz * (c1 - c0);
+  if (std::isfinite(r)) return r;
+  // The float differences overflowed (neighbours near -FLT_MAX and FLT_MAX):
+  // the same interpolation in double, where no float value overflows.
+  const auto lerp = [](double a, double b, double f) { return a + f * (b - a); };
+  const double d00 = lerp(p[0], p[sx], fx), d10 = lerp(p[sy], p[sy + sx], fx);
+  const double d01 = lerp(p[sz], p[sz + sx], fx), d11 = lerp(p[sz + sy], p[sz + sy + sx], fx);
+  return lerp(lerp(d00, d10, fy), lerp(d01, d11, fy), fz);
 }
 
 void Volume::physical_bounds(Vec3& lo, Vec3& hi) const {

@@ -125,14 +125,29 @@ double otsu_threshold(const Volume& volume, int bins) {
   // ApplyMarginalScale (the histogram's measurement type is double).
   const double margin = ((hi - lo) / static_cast<double>(bins)) / 100.0;
   const double upper = hi + margin;
-  // Histogram::Initialize: a float interval, edges lower + float(j * interval).
-  const float interval = (static_cast<float>(upper) - static_cast<float>(lo)) / static_cast<float>(bins);
   std::vector<double> bin_min(size), bin_max(size);
-  for (std::size_t j = 0; j + 1 < size; ++j) {
-    bin_min[j] = lo + static_cast<float>(static_cast<float>(j) * interval);
-    bin_max[j] = lo + static_cast<float>((static_cast<float>(j) + 1.0f) * interval);
+  // Histogram::Initialize: a float interval, edges lower + float(j * interval).
+  // Near FLT_MAX (values spanning more than FLT_MAX, or a maximum whose margin
+  // passes FLT_MAX) ITK's float interval overflows to inf and every edge with
+  // it; there the same bins are computed in double instead (no float value can
+  // overflow a double), so the threshold stays finite and inside the range.
+  const bool float_bins = upper <= static_cast<double>(std::numeric_limits<float>::max()) &&
+                          std::isfinite(static_cast<float>(upper) - static_cast<float>(lo));
+  if (float_bins) {
+    const float interval = (static_cast<float>(upper) - static_cast<float>(lo)) / static_cast<float>(bins);
+    for (std::size_t j = 0; j + 1 < size; ++j) {
+      bin_min[j] = lo + static_cast<float>(static_cast<float>(j) * interval);
+      bin_max[j] = lo + static_cast<float>((static_cast<float>(j) + 1.0f) * interval);
+    }
+    bin_min[size - 1] = lo + static_cast<float>((static_cast<float>(bins) - 1.0f) * interval);
+  } else {
+    const double interval = (upper - lo) / static_cast<double>(bins);
+    for (std::size_t j = 0; j + 1 < size; ++j) {
+      bin_min[j] = lo + static_cast<double>(j) * interval;
+      bin_max[j] = lo + (static_cast<double>(j) + 1.0) * interval;
+    }
+    bin_min[size - 1] = lo + (static_cast<double>(bins) - 1.0) * interval;
   }
-  bin_min[size - 1] = lo + static_cast<float>((static_cast<float>(bins) - 1.0f) * interval);
   bin_max[size - 1] = upper;
 
   // Histogram::GetIndex (ClipBinsAtEnds on; no value lies below the first bin
@@ -221,6 +236,7 @@ double otsu_threshold(const Volume& volume, int bins) {
       best_index = threshold_index;
     }
   }
+  // best_index <= bins - 2: the edge lies below the maximum, so it is a finite float.
   return static_cast<double>(static_cast<float>(bin_max[best_index]));
 }
 

@@ -177,6 +177,16 @@ Binding threshold() {
           }};
 }
 
+// --memory-limit: GiB (2^30 bytes) of float voxels, 0 = none.
+Binding memory_limit() {
+  return {[](Options& o, const std::string& v) {
+            const double x = parse_real("", v);
+            if (!(x >= 0.0 && x <= 1e6)) throw UsageError("must be in [0, 1e6] GiB (0 = no limit), got " + v);
+            o.memory_limit_gb = x;
+          },
+          [](const Options& o) { return json_number(o.memory_limit_gb); }};
+}
+
 // A row of the table.
 OptionSpec row(std::string name, std::string metavar, std::string unit, std::string group, std::string help,
                Binding b, std::string default_text = {}) {
@@ -230,6 +240,7 @@ std::vector<OptionSpec> make_table() {
   // the region of interest), then the catalogue's rows in its groups.
   std::vector<OptionSpec> table = {
       row("--series", "UID", "", in, "DICOM series to read from a folder with several", text(GDM_FIELD(std::string, series)), "the series with most slices"),
+      row("--memory-limit", "GB", "GiB", in, "refuse a volume whose voxels take more than this as float (4 bytes each; 0 = no limit)", memory_limit()),
       row("--roi", "I0,J0,K0,I1,J1,K1", "voxels", pre, "crop to this inclusive voxel box first", roi(), "the whole volume"),
       row("--threshold", "T|otsu", "image units (HU for CT)", pre, "iso-value T of eq. 2; otsu = Otsu's method", threshold()),
   };

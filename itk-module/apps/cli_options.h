@@ -20,6 +20,7 @@ struct Options {
   std::string output;                     // mesh file; empty = <input name>-gdm.ply
   std::string report;                     // JSON report file; empty = none
   std::string series;                     // DICOM series UID; empty = the one with most slices
+  double memory_limit_gb = 8.0;           // largest volume read, GiB of float voxels; 0 = no limit
   bool threshold_given = false;           // --threshold was on the command line
   std::string seed_mesh;                  // seed mesh file (--seed-mesh); read into pipeline.seed.mesh
   gdm::PipelineOptions pipeline;          // everything the pipeline takes (the catalogue's options)

@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cmath>
+#include <cstdint>
 #include <exception>
 #include <filesystem>
 #include <iostream>
@@ -141,7 +142,8 @@ int run(const Options& options_in, RunRecord& record) {
   check_output_paths(options);
   if (options.pipeline.seed.kind == gdm::SeedKind::mesh) options.pipeline.seed.mesh = read_seed_mesh(options.seed_mesh);
 
-  const gdm::Volume volume = read_input(options.input, options.series, record.input, out);
+  const auto memory_limit = static_cast<std::uint64_t>(std::ceil(options.memory_limit_gb * 1073741824.0));
+  const gdm::Volume volume = read_input(options.input, options.series, memory_limit, record.input, out);
   if (talk) out << input_text(record.input) << std::flush;
 
   // Preprocessing, threshold and seed (gdm::prepare_model), then the model.
@@ -187,12 +189,16 @@ int run(const Options& options_in, RunRecord& record) {
   record.exit_code = exit_ok;
   record.total_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (!options.report.empty()) write_text_file(report_json(record, options), options.report);
+  // Until the mesh is written, the report goes with it: on a failed write, and
+  // on SIGINT, SIGTERM or SIGHUP (gdm::RemoveOnInterrupt).
+  gdm::RemoveOnInterrupt report_only_with_the_mesh(options.report);
   try {
     gdm_cli::write_mesh(result.mesh, options.output);
   } catch (...) {
     if (!options.report.empty()) std::remove(options.report.c_str());
     throw;
   }
+  report_only_with_the_mesh.release();
   if (talk) {
     out << summary_text(record);
     if (!options.report.empty()) out << "wrote " << options.report << "\n";
@@ -222,6 +228,9 @@ CliError cli_error(const gdm::Error& e) {
 
 int main(int argc, char* argv[]) {
   using namespace gdm_cli;
+  // SIGINT, SIGTERM, SIGHUP: remove the temporary file of a write in flight
+  // (and the report written before its mesh), then end by that signal.
+  gdm::remove_on_interrupt_install();
   if (argc > 1 && std::string(argv[1]) == "wrap") return wrap_command(argc, argv);  // wrap_command.h
   Options options;
   try {

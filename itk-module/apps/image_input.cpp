@@ -9,11 +9,12 @@
 
 namespace gdm_cli {
 
-gdm::Volume read_input(const std::string& path, const std::string& series_uid, InputInfo& info,
-                       std::ostream& log) {
+gdm::Volume read_input(const std::string& path, const std::string& series_uid, std::uint64_t memory_limit,
+                       InputInfo& info, std::ostream& log) {
   info.path = path;
   gdm::ReadOptions options;
   options.series_uid = series_uid;
+  options.memory_limit = memory_limit;
   gdm::ImageInfo read;
   gdm::Volume volume;
   try {
@@ -21,7 +22,11 @@ gdm::Volume read_input(const std::string& path, const std::string& series_uid, I
   } catch (const gdm::InvalidOption& e) {
     throw UsageError("--series " + series_uid + ": " + e.what());
   } catch (const gdm::Error& e) {
-    throw InputError(e.what());
+    std::string message = e.what();
+    const std::string api = "ReadOptions::memory_limit";  // said with the command's flag
+    const auto at = message.find(api);
+    if (at != std::string::npos) message.replace(at, api.size(), "--memory-limit (GiB, 0 = no limit)");
+    throw InputError(message);
   }
   if (read.series_count > 1 && series_uid.empty())
     log << "the folder holds " << read.series_count << " DICOM series; using the one with most slices ("

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <ostream>
 #include <string>
 
@@ -16,7 +17,9 @@ namespace gdm_cli {
 // Reads `path`; `series_uid` selects a DICOM series (empty: the one with most
 // slices). Throws InputError naming the problem, UsageError for an unknown
 // series UID. Progress notes (which series) go to `log`.
-gdm::Volume read_input(const std::string& path, const std::string& series_uid, InputInfo& info,
-                       std::ostream& log);
+// `memory_limit` (bytes of float voxels, 0 = none): a larger volume is an
+// InputError naming the limit as --memory-limit.
+gdm::Volume read_input(const std::string& path, const std::string& series_uid, std::uint64_t memory_limit,
+                       InputInfo& info, std::ostream& log);
 
 }  // namespace gdm_cli

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <iostream>
 #include <new>
 #include <string>
@@ -51,6 +53,14 @@ double number(const std::string& option, const std::string& text) {
   return v;
 }
 
+// True when both paths name the same file (or would: the same absolute path).
+bool same_file(const std::string& a, const std::string& b) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::exists(a, ec) && fs::exists(b, ec)) return fs::equivalent(a, b, ec);
+  return fs::weakly_canonical(fs::absolute(a, ec), ec) == fs::weakly_canonical(fs::absolute(b, ec), ec);
+}
+
 WrapArgs parse(int argc, char* argv[]) {
   WrapArgs a;
   for (int i = 2; i < argc; ++i) {
@@ -85,6 +95,12 @@ WrapArgs parse(int argc, char* argv[]) {
   if (std::isnan(a.cell_size)) a.cell_size = a.tolerance / 3.0;
   if (!(a.cell_size > 0)) throw UsageError("--cell-size must be > 0 (mm), got " + std::to_string(a.cell_size));
   if (a.cell_size > a.tolerance) throw UsageError("--cell-size must be <= --tolerance");
+  // No output may overwrite the input or the other output.
+  if (same_file(a.output, a.input)) throw UsageError("--output " + a.output + " is the input: gdm never overwrites its input");
+  if (!a.report.empty() && same_file(a.report, a.input))
+    throw UsageError("--report " + a.report + " is the input: gdm never overwrites its input");
+  if (!a.report.empty() && same_file(a.report, a.output))
+    throw UsageError("--report and --output name the same file " + a.output);
   return a;
 }
 
@@ -156,12 +172,17 @@ int run(const WrapArgs& a) {
   printer.finish();
   if (!a.quiet)
     for (const auto& n : r.notes) std::cerr << "gdm wrap: " << n << "\n";
+  // The report first, then the mesh (as gdm does): a failed report leaves no
+  // mesh, a failed mesh (or an interrupt while it is written) no report.
+  if (!a.report.empty()) write_text_file(report_json(a, input.size(), r), a.report);
+  gdm::RemoveOnInterrupt report_only_with_the_mesh(a.report);
   try {
     gdm::write_mesh(r.mesh, a.output);
   } catch (const gdm::Error& e) {
+    if (!a.report.empty()) std::remove(a.report.c_str());
     throw OutputError(e.what());
   }
-  if (!a.report.empty()) write_text_file(report_json(a, input.size(), r), a.report);
+  report_only_with_the_mesh.release();
   const auto& m = r.report;
   std::cout << "wrap of " << a.input << " (" << input.size() << " triangles) written to " << a.output << "\n"
             << "  faces " << m.faces << ", vertices " << m.vertices << "\n"

@@ -8,6 +8,7 @@
 #include "itkImageIOFactory.h"
 #include "itkImageSeriesReader.h"
 #include "itkMetaDataObject.h"
+#include "itkVTKImageIO.h"
 #include "itkSymmetricEigenAnalysis.h"  // ITK's Eigen before the system one
 
 #include <gdcmScanner.h>
@@ -308,6 +309,7 @@ T get(const unsigned char* p, bool swap) {
 
 // NIfTI-1/-2 (.nii, .nii.gz; .hdr/.img pairs): pixdim, and the data size,
 // for gzip data the size of what the stream really inflates to.
+
 void check_nifti(const std::string& path, unsigned long long voxels, long double expected) {
   const bool pair = ends_with(path, ".hdr") || ends_with(path, ".hdr.gz");
   // Closed on every path, a throw included (check_header_spacing throws with
@@ -485,6 +487,15 @@ Image::Pointer read_file(const std::string& path, const ReadOptions& options, Im
   if (info.format == "MetaImage") check_metaimage(path, voxels, expected);
   if (info.format == "NRRD") check_nrrd(path, voxels, expected);
   if (info.format == "NIfTI") check_nifti(path, voxels, expected);
+  if (const auto* vtk = dynamic_cast<const itk::VTKImageIO*>(io.GetPointer())) {
+    // Legacy VTK: the data follows the header; ASCII needs at least 2 bytes a value.
+    const bool ascii = vtk->GetFileType() == itk::IOFileEnum::ASCII;
+    const long double needed = ascii ? 2.0L * static_cast<long double>(voxels) - 1 : expected;
+    const long double held =
+        static_cast<long double>(file_size(path)) - static_cast<long double>(vtk->GetHeaderSize());
+    if (held < needed)
+      throw InvalidInput(voxel_claim(path, voxels, needed, std::max<long double>(0, held), "the file"));
+  }
   for (unsigned int d = 0; d < 3; ++d)
     check_header_spacing(path, "as read by ITK", {io->GetSpacing(d)}, 1);
   size.resize(3);

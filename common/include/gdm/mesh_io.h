@@ -53,7 +53,38 @@ void write_mesh(const MeshFileData& mesh, const std::string& path);
 
 // Writes through `path`.tmp-<pid> and renames (see write_mesh); `body` writes
 // the content (a stream with precision 17). Throws Error naming the file.
+// An interrupt (SIGINT, SIGTERM, SIGHUP) during the write removes the
+// temporary file (see RemoveOnInterrupt) and the process still ends by that
+// signal.
 void write_file_atomically(const std::string& path, bool binary, const std::function<void(std::ostream&)>& body);
+
+// Lists `path` for removal if SIGINT, SIGTERM or SIGHUP ends the process while
+// the guard lives (write_file_atomically guards its temporary file with it; the
+// gdm command guards its report until the mesh is written). The listing is a
+// fixed table (32 paths of under 4096 bytes; a path that does not fit is left
+// unguarded) read by an async-signal-safe handler that unlinks the listed
+// paths, then lets the signal end the process with its default action (exit
+// status: killed by that signal). The handler is installed by the first guard,
+// or earlier by remove_on_interrupt_install(), and only for a signal whose
+// action is still the default: a program's own handler, or an ignored SIGHUP
+// (nohup), is left as it is.
+class RemoveOnInterrupt {
+ public:
+  explicit RemoveOnInterrupt(const std::string& path);
+  ~RemoveOnInterrupt();
+  RemoveOnInterrupt(const RemoveOnInterrupt&) = delete;
+  RemoveOnInterrupt& operator=(const RemoveOnInterrupt&) = delete;
+  void release();  // no longer removed on an interrupt (also done by the destructor)
+
+ private:
+  int slot_ = -1;
+};
+
+// Installs the handler of RemoveOnInterrupt now, for each of the signals whose
+// action is the default at this call (a program calls it at start, before it
+// starts threads; calling it again installs it where the action has been set
+// back to the default since).
+void remove_on_interrupt_install();
 
 // Reads .ply (ASCII, binary little-endian), .obj, .off, .stl (ASCII, binary),
 // .vtk (legacy polydata, ASCII or binary). STL corners are welded by exact

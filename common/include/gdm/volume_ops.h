@@ -32,6 +32,10 @@ Volume gaussian_smooth(const Volume& volume, double sigma_mm);
 // image with `bins` bins: its histogram spans [min, max + (max - min) / bins
 // / 100] with ITK's bin edges, the first maximum of the between-class
 // variance wins, and the edge is returned rounded to float as ITK does.
+// Where ITK's float bin width would overflow (values near +-FLT_MAX: a span
+// beyond FLT_MAX, or a maximum whose margin passes it; ITK then returns inf)
+// the same bins are computed in double: the threshold is always finite and
+// lies inside [min, max).
 // Throws InvalidOption for fewer than 2 bins.
 double otsu_threshold(const Volume& volume, int bins = 256);
 

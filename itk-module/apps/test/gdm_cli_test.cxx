@@ -3,8 +3,11 @@
 // and on the real scans of ../shared/data (skipped when absent), read the
 // meshes back (ITK's mesh readers for .vtk/.obj/.off, parsers here for .ply
 // and .stl) and check them with the core's mesh checks.
+#include <fcntl.h>
+#include <signal.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <array>
@@ -1127,4 +1130,239 @@ TEST(Hostile, LeakStopsAtTheFirstContact) {
   const std::string json = slurp(dir / "out.json");
   EXPECT_NE(json.find("\"stop_reason\": \"reached the volume border\""), std::string::npos) << json;
   EXPECT_LT(json_value(json, "cycles"), 60.0);
+}
+
+// Starts `program args...` in `dir` with stdout to a pipe (returned in `out_fd`)
+// and stderr to dir/stderr.txt.
+pid_t spawn(const fs::path& dir, const std::string& program, const std::vector<std::string>& args, int& out_fd) {
+  int fds[2];
+  if (::pipe(fds) != 0) return -1;
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    ::close(fds[0]);
+    ::dup2(fds[1], 1);
+    const int err = ::open((dir / "stderr.txt").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (err >= 0) ::dup2(err, 2);
+    if (::chdir(dir.c_str()) != 0) ::_exit(126);
+    std::vector<char*> argv;
+    argv.push_back(const_cast<char*>(program.c_str()));
+    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    ::execv(program.c_str(), argv.data());
+    ::_exit(127);
+  }
+  ::close(fds[1]);
+  out_fd = fds[0];
+  return pid;
+}
+
+// Every file of `dir` but stderr.txt, by name.
+std::vector<std::string> files_in(const fs::path& dir) {
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(dir))
+    if (e.path().filename() != "stderr.txt") names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+// Item 10: SIGTERM, SIGINT (Ctrl-C) or SIGHUP while the mesh is being written
+// removes its temporary file (and the report written just before it); the
+// process still ends by that signal. gdm_interrupt_helper stops inside the
+// write body of gdm::write_file_atomically, as gdm's own last step.
+TEST(Hostile, InterruptedWriteLeavesNoFile) {
+  const fs::path dir = work_dir();
+  for (const int sig : {SIGTERM, SIGINT, SIGHUP})
+    for (const bool with_report : {false, true}) {
+      SCOPED_TRACE("signal " + std::to_string(sig) + (with_report ? " with a report" : ""));
+      std::vector<std::string> args = {"out.ply"};
+      if (with_report) args.push_back("out.json");
+      int out = -1;
+      const pid_t pid = spawn(dir, GDM_INTERRUPT_HELPER, args, out);
+      ASSERT_GT(pid, 0);
+      char line[8] = {};
+      ASSERT_EQ(::read(out, line, 7), 7) << "the helper did not start writing: " << slurp(dir / "stderr.txt");
+      ::close(out);
+      EXPECT_EQ(std::string(line, 7), "writing");
+      const std::string temporary = "out.ply.tmp-" + std::to_string(pid);
+      EXPECT_TRUE(fs::exists(dir / temporary)) << "the write is in flight";
+      EXPECT_EQ(fs::exists(dir / "out.json"), with_report);
+      ASSERT_EQ(::kill(pid, sig), 0);
+      int status = 0;
+      ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+      EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == sig) << "status " << status;
+      EXPECT_EQ(files_in(dir), std::vector<std::string>{}) << "left behind";
+    }
+}
+
+// Item 10: the report is written first, then the mesh; a failed report write
+// leaves no mesh (exit 5), and a failed mesh write removes the report (exit 5).
+// The unwritable path is a folder where the file should go (root can write anywhere else).
+TEST(Hostile, FailedReportOrMeshWriteLeavesNeither) {
+  const fs::path dir = work_dir();
+  fs::create_directory(dir / "report.json");
+  GdmRun r = run_gdm(dir, {"--refinements", "0", "--quiet", "-o", "out.ply", "--report", "report.json"});
+  EXPECT_EQ(r.code, 5) << r.err;
+  EXPECT_NE(r.err.find("report.json"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "out.ply")) << "a failed report write left the mesh";
+  EXPECT_TRUE(fs::is_directory(dir / "report.json"));
+  fs::remove(dir / "report.json");
+  EXPECT_EQ(files_in(dir), std::vector<std::string>{});
+
+  fs::create_directory(dir / "out.ply");
+  r = run_gdm(dir, {"--refinements", "0", "--quiet", "-o", "out.ply", "--report", "report.json"});
+  EXPECT_EQ(r.code, 5) << r.err;
+  EXPECT_NE(r.err.find("out.ply"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "report.json")) << "a failed mesh write left the report";
+  EXPECT_TRUE(fs::is_directory(dir / "out.ply"));
+  fs::remove(dir / "out.ply");
+  EXPECT_EQ(files_in(dir), std::vector<std::string>{});
+}
+
+// A float MetaImage of the blob of write_blob with the given inside and outside values.
+void write_float_blob(const fs::path& path, float inside, float outside, bool one_voxel_outside = false) {
+  using FloatImage = itk::Image<float, 3>;
+  auto image = FloatImage::New();
+  FloatImage::RegionType region;
+  region.SetSize({{32, 32, 32}});
+  image->SetRegions(region);
+  image->Allocate();
+  itk::ImageRegionIteratorWithIndex<FloatImage> it(image, region);
+  for (it.GoToBegin(); !it.IsAtEnd(); ++it) {
+    const auto i = it.GetIndex();
+    const bool in = one_voxel_outside ? !(i[0] == 0 && i[1] == 0 && i[2] == 0)
+                                      : std::hypot(i[0] - 15.5, i[1] - 15.5, i[2] - 15.5) < 9.0;
+    it.Set(in ? inside : outside);
+  }
+  itk::WriteImage(image, path.string());
+}
+
+// Item 9: values near FLT_MAX (Otsu's float bins overflowed to an infinite
+// threshold): a sane model (exit 0) or a refusal naming the problem (exit 3), never exit 1.
+TEST(Hostile, ValuesNearFloatMaxNeverExitOne) {
+  const fs::path dir = work_dir();
+  write_float_blob(dir / "huge.mha", 3e38f, -3e38f);
+  const GdmRun r = run_gdm(dir, {"huge.mha", "-o", "huge.ply", "--report", "huge.json", "--quiet"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string json = slurp(dir / "huge.json");
+  const double t = json_value(json, "value");
+  EXPECT_TRUE(std::isfinite(t)) << json;
+  EXPECT_GT(t, -3e38);
+  EXPECT_LT(t, 3e38);
+  EXPECT_GT(json_value(json, "fit_moves"), 0.0) << "the sub-voxel fit ran (its samples stay finite)";
+  const gdm::MeshReport m = measure(read_mesh(dir / "huge.ply"));
+  EXPECT_TRUE(m.closed);
+  EXPECT_EQ(m.self_intersections, 0u);
+  // The same blob as short values 1000 and 0 gives the same model.
+  write_blob(dir / "blob.mha", {1, 1, 1});
+  ASSERT_EQ(run_gdm(dir, {"blob.mha", "-o", "blob.ply", "--quiet"}).code, 0);
+  const gdm::MeshReport reference = measure(read_mesh(dir / "blob.ply"));
+  EXPECT_NEAR(m.volume / reference.volume, 1.0, 0.02) << m.volume << " mm^3 against " << reference.volume;
+
+  // 1e38 everywhere but one voxel: Otsu puts that voxel alone below T, the
+  // object is the whole volume and touches the border: the leak message
+  // (exit 4); with --allow-border, the box of the volume (exit 0).
+  write_float_blob(dir / "flat.mha", 1e38f, 0.0f, true);
+  const GdmRun flat = run_gdm(dir, {"flat.mha", "-o", "flat.ply", "--quiet"});
+  EXPECT_EQ(flat.code, 4) << flat.err;
+  EXPECT_NE(flat.err.find("gdm: error: the model reached the volume border"), std::string::npos) << flat.err;
+  EXPECT_FALSE(fs::exists(dir / "flat.ply"));
+  const GdmRun allowed = run_gdm(dir, {"flat.mha", "-o", "flat.ply", "--allow-border", "--quiet"});
+  ASSERT_EQ(allowed.code, 0) << allowed.err;
+  const gdm::MeshReport box = measure(read_mesh(dir / "flat.ply"));
+  EXPECT_TRUE(box.closed);
+  EXPECT_EQ(box.self_intersections, 0u);
+  EXPECT_GT(box.volume, 0.9 * 31.0 * 31.0 * 31.0) << "nearly the whole 31 mm cube";
+  for (const auto& entry : fs::directory_iterator(dir))
+    EXPECT_EQ(entry.path().string().find(".tmp-"), std::string::npos) << entry.path();
+}
+
+// Item 9: a FIFO would block the open forever, a folder has nothing to read:
+// as --seed-mesh or as gdm wrap's input, refused at once with exit 3.
+TEST(Hostile, FifoOrFolderMeshIsRefusedAtOnce) {
+  const fs::path dir = work_dir();
+  ASSERT_EQ(::mkfifo((dir / "pipe.obj").c_str(), 0600), 0);
+  fs::create_directory(dir / "folder.off");
+  const auto start = std::chrono::steady_clock::now();
+  for (const std::string mesh : {"pipe.obj", "folder.off"}) {
+    const std::string what = mesh == "pipe.obj" ? "a FIFO (named pipe)" : "a folder";
+    GdmRun r = run_gdm(dir, {"--seed-mesh", mesh, "-o", "m.ply", "--quiet"});
+    EXPECT_EQ(r.code, 3) << r.err;
+    EXPECT_NE(r.err.find("cannot read the seed mesh " + mesh), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("not a regular file: it is " + what), std::string::npos) << r.err;
+    r = run_gdm(dir, {"wrap", mesh, "-o", "w.ply", "--tolerance", "1"});
+    EXPECT_EQ(r.code, 3) << r.err;
+    EXPECT_NE(r.err.find("not a regular file: it is " + what), std::string::npos) << r.err;
+  }
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 30.0);
+  EXPECT_FALSE(fs::exists(dir / "m.ply"));
+  EXPECT_FALSE(fs::exists(dir / "w.ply"));
+}
+
+// Item 9: a legacy VTK image whose header claims 1e11 points (data for a
+// few): exit 3 naming the problem, before any large allocation, with or
+// without the memory limit.
+TEST(Hostile, VtkImageClaimingHugePointCount) {
+  const fs::path dir = work_dir();
+  std::ofstream(dir / "huge.vtk", std::ios::binary)
+      << "# vtk DataFile Version 3.0\nhostile\nBINARY\nDATASET STRUCTURED_POINTS\nDIMENSIONS 10000 10000 1000\n"
+      << "SPACING 1 1 1\nORIGIN 0 0 0\nPOINT_DATA 100000000000\nSCALARS s short 1\nLOOKUP_TABLE default\n"
+      << std::string(4096, '\x01');
+  expect_failure(dir, {"huge.vtk"}, 3, "huge.vtk: the header claims 100000000000 voxels");
+  expect_failure(dir, {"huge.vtk", "--memory-limit", "0"}, 3, "huge.vtk: the header claims 100000000000 voxels");
+  std::ofstream(dir / "points.vtk", std::ios::binary)
+      << "# vtk DataFile Version 3.0\nhostile\nASCII\nDATASET POLYDATA\nPOINTS 100000000000 float\n0 0 0\n";
+  expect_failure(dir, {"points.vtk"}, 3, "points.vtk");
+}
+
+// Resource guards: --memory-limit (GiB of float voxels) refuses a larger volume
+// before it is read, with exit 3 naming the limit; 0 lifts it.
+TEST(Hostile, MemoryLimitRefusesLargeVolumes) {
+  const fs::path dir = work_dir();
+  write_blob(dir / "in.mha", {1, 1, 1});  // 32^3 voxels = 128 KiB as float
+  expect_failure(dir, {"in.mha", "--threshold", "500", "--memory-limit", "0.0001"}, 3, "more than the memory limit");
+  const GdmRun r = run_gdm(dir, {"in.mha", "--threshold", "500", "--memory-limit", "0.0001", "-o", "m.ply"});
+  EXPECT_NE(r.err.find("--memory-limit"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("ReadOptions"), std::string::npos) << r.err;
+  expect_failure(dir, {"--memory-limit", "-1"}, 2, "--memory-limit: must be in [0, 1e6]");
+  expect_failure(dir, {"--memory-limit", "nan"}, 2, "--memory-limit");
+  const GdmRun ok = run_gdm(dir, {"in.mha", "--threshold", "500", "--memory-limit", "0", "--refinements", "0",
+                                  "-o", "m.ply", "--report", "m.json", "--quiet"});
+  EXPECT_EQ(ok.code, 0) << ok.err;
+  EXPECT_EQ(json_value(slurp(dir / "m.json"), "memory_limit"), 0.0);
+}
+
+// Resource guards: --time-limit ends a run that takes longer, exit 4 saying it
+// ran out of time, no mesh.
+TEST(Hostile, TimeLimitEndsTheRun) {
+  const fs::path dir = work_dir();
+  const GdmRun r = run_gdm(dir, {"--time-limit", "0.001", "-o", "out.ply"});
+  EXPECT_EQ(r.code, 4) << r.err;
+  EXPECT_NE(r.err.find("ran out of time (time_limit 0.001 s)"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "out.ply"));
+  for (const auto& entry : fs::directory_iterator(dir))
+    EXPECT_EQ(entry.path().string().find(".tmp-"), std::string::npos) << entry.path();
+}
+
+// gdm wrap as gdm: no output may overwrite its input (exit 2, the input
+// untouched), and the report goes with its mesh (a failed mesh write, exit 5,
+// leaves no report).
+TEST(Hostile, WrapOutputsNeverOverwriteTheInput) {
+  const fs::path dir = work_dir();
+  gdm::write_mesh(gdm::make_geodesic_sphere(gdm::Vec3(0, 0, 0), 5.0, 1), (dir / "in.obj").string());
+  const std::string before = slurp(dir / "in.obj");
+  expect_refused(dir, {"wrap", "in.obj", "-o", "in.obj", "--tolerance", "1"}, 2, "--output in.obj is the input");
+  expect_refused(dir, {"wrap", "in.obj", "-o", "w.ply", "--report", "./in.obj", "--tolerance", "1"}, 2,
+                 "--report ./in.obj is the input");
+  expect_refused(dir, {"wrap", "in.obj", "-o", "w.vtk", "--report", "w.vtk", "--tolerance", "1"}, 2,
+                 "--report and --output name the same file");
+  EXPECT_EQ(slurp(dir / "in.obj"), before);
+  fs::create_directory(dir / "w.ply");
+  expect_refused(dir, {"wrap", "in.obj", "-o", "w.ply", "--report", "w.json", "--tolerance", "1", "--quiet"}, 5,
+                 "w.ply");
+  EXPECT_FALSE(fs::exists(dir / "w.json")) << "a failed mesh write left the report";
+  fs::remove(dir / "w.ply");
+  fs::create_directory(dir / "w.json");
+  expect_refused(dir, {"wrap", "in.obj", "-o", "w.ply", "--report", "w.json", "--tolerance", "1", "--quiet"}, 5,
+                 "w.json");
+  EXPECT_FALSE(fs::exists(dir / "w.ply")) << "a failed report write left the mesh";
 }

@@ -339,6 +339,30 @@ TEST(Hostile, MetaImageHeaderClaimsFarMoreVoxels) {
       << "refused only after a large allocation";
 }
 
+// A legacy VTK image whose header claims 1e11 points, or more than its data:
+// refused from the file's size even without a memory limit (ITK would try to
+// allocate it).
+TEST(Hostile, VtkImageClaimingMorePointsThanItHolds) {
+  const fs::path dir = work_dir();
+  const std::string head = "# vtk DataFile Version 3.0\nhostile\n";
+  write_text(dir / "huge.vtk", head + "BINARY\nDATASET STRUCTURED_POINTS\nDIMENSIONS 10000 10000 1000\n"
+                               "SPACING 1 1 1\nORIGIN 0 0 0\nPOINT_DATA 100000000000\nSCALARS s short 1\n"
+                               "LOOKUP_TABLE default\n" + std::string(4096, '\x01'));
+  gdm::ReadOptions unlimited;
+  unlimited.memory_limit = 0;
+  expect_refused(dir / "huge.vtk", {"the header claims 100000000000 voxels", "truncated or a header that lies"}, unlimited);
+  expect_refused(dir / "huge.vtk", {"the header claims 100000000000 voxels"});  // before the memory limit
+  write_text(dir / "short.vtk", head + "BINARY\nDATASET STRUCTURED_POINTS\nDIMENSIONS 8 8 8\nSPACING 1 1 1\n"
+                                "ORIGIN 0 0 0\nPOINT_DATA 512\nSCALARS s short 1\nLOOKUP_TABLE default\n" +
+                                std::string(1000, '\x01'));
+  expect_refused(dir / "short.vtk", {"the header claims 512 voxels (1024 bytes of data)", "holds 1000 bytes"});
+  std::string values;
+  for (int i = 0; i < 100; ++i) values += std::to_string(i % 7) + " ";
+  write_text(dir / "ascii.vtk", head + "ASCII\nDATASET STRUCTURED_POINTS\nDIMENSIONS 8 8 8\nSPACING 1 1 1\n"
+                                "ORIGIN 0 0 0\nPOINT_DATA 512\nSCALARS s short 1\nLOOKUP_TABLE default\n" + values);
+  expect_refused(dir / "ascii.vtk", {"the header claims 512 voxels"});
+}
+
 TEST(Hostile, MemoryLimitRefusesBeforeReading) {
   const fs::path dir = work_dir();
   write(small_volume().GetPointer(), dir / "v.mha");
@@ -538,6 +562,14 @@ TEST(Hostile, NiftiSpacingZeroNegativeNaN) {
     itk_alone(dir / name);
     expect_refused(dir / name, {"spacing (pixdim) along axis 1", "positive finite"});
   }
+  // A refusal closes the file it checked (the header check once leaked its
+  // gzFile, a descriptor per refused file; LeakSanitizer found it).
+  const auto open_files = [] {
+    return std::distance(fs::directory_iterator("/proc/self/fd"), fs::directory_iterator{});
+  };
+  const auto before = open_files();
+  for (int i = 0; i < 20; ++i) EXPECT_THROW(gdm::read_volume((dir / "zero.nii").string()), gdm::InvalidInput);
+  EXPECT_EQ(open_files(), before);
 }
 
 // ---------------------------------------------- e. not a regular file --

@@ -13,7 +13,8 @@
 //  - a missing path, a FIFO, device or socket (never opened, so never blocks);
 //  - an unreadable or self-contradicting header; 2D images, vectors;
 //  - a header that claims more voxel data than the file (or its data file)
-//    holds: truncated MetaImage / NRRD / NIfTI, cut or header-only .nii.gz;
+//    holds: truncated MetaImage / NRRD / NIfTI / legacy VTK, cut or header-only
+//    .nii.gz;
 //  - a spacing that is 0, negative, NaN or infinite in the header itself
 //    (ITK silently turns some of these into 1 or drops the sign);
 //  - more float voxels than ReadOptions::memory_limit bytes;
