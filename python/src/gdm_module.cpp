@@ -708,18 +708,31 @@ py::dict extract_surface(py::handle volume, py::handle spacing, py::handle origi
 // ---------------------------------------------------------------------------
 // wrap
 
-std::vector<gdm::Triangle> triangles(py::handle vertices, py::handle faces) {
+// A mesh given as arrays: vertices N x 3 (mm) and faces M x 3 (indices),
+// C-ordered doubles and 64-bit integers; InvalidOption naming the bad one.
+struct MeshArrays {
   py::array_t<double, py::array::c_style | py::array::forcecast> v;
   py::array_t<long long, py::array::c_style | py::array::forcecast> f;
+};
+
+MeshArrays mesh_arrays_of(py::handle vertices, py::handle faces) {
+  MeshArrays m;
   try {
-    v = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(vertices);
-    f = py::array_t<long long, py::array::c_style | py::array::forcecast>::ensure(faces);
+    m.v = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(vertices);
+    m.f = py::array_t<long long, py::array::c_style | py::array::forcecast>::ensure(faces);
   } catch (const py::error_already_set&) {
   }
-  if (!v || v.ndim() != 2 || v.shape(1) != 3)
+  if (!m.v || m.v.ndim() != 2 || m.v.shape(1) != 3)
     throw gdm::InvalidOption("vertices", "vertices must be an N x 3 array (mm), got " + repr_of(vertices));
-  if (!f || f.ndim() != 2 || f.shape(1) != 3)
+  if (!m.f || m.f.ndim() != 2 || m.f.shape(1) != 3)
     throw gdm::InvalidOption("faces", "faces must be an M x 3 integer array, got " + repr_of(faces));
+  return m;
+}
+
+std::vector<gdm::Triangle> triangles(py::handle vertices, py::handle faces) {
+  const MeshArrays arrays = mesh_arrays_of(vertices, faces);
+  const auto& v = arrays.v;
+  const auto& f = arrays.f;
   auto vv = v.unchecked<2>();
   auto ff = f.unchecked<2>();
   std::vector<gdm::Triangle> out;
@@ -809,17 +822,9 @@ py::dict wrap(py::handle vertices, py::handle faces, double tolerance, py::handl
 
 void write_mesh(const std::string& path, py::handle vertices, py::handle faces, py::handle generation) {
   gdm::MeshFileData data;
-  py::array_t<double, py::array::c_style | py::array::forcecast> v;
-  py::array_t<long long, py::array::c_style | py::array::forcecast> f;
-  try {
-    v = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(vertices);
-    f = py::array_t<long long, py::array::c_style | py::array::forcecast>::ensure(faces);
-  } catch (const py::error_already_set&) {
-  }
-  if (!v || v.ndim() != 2 || v.shape(1) != 3)
-    throw gdm::InvalidOption("vertices", "vertices must be an N x 3 array (mm), got " + repr_of(vertices));
-  if (!f || f.ndim() != 2 || f.shape(1) != 3)
-    throw gdm::InvalidOption("faces", "faces must be an M x 3 integer array, got " + repr_of(faces));
+  const MeshArrays arrays = mesh_arrays_of(vertices, faces);
+  const auto& v = arrays.v;
+  const auto& f = arrays.f;
   auto vv = v.unchecked<2>();
   auto ff = f.unchecked<2>();
   for (py::ssize_t i = 0; i < v.shape(0); ++i) {
