@@ -37,7 +37,7 @@ runs="$build/fuzz-runs/$(date +%Y%m%d-%H%M%S)"
 export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1:allocator_may_return_null=0}"
 export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}"
 # Leaks inside Debian's ITK that gdm cannot avoid (each one listed there with its input).
-export LSAN_OPTIONS="${LSAN_OPTIONS:-suppressions=$here/test/fuzz/lsan.supp:print_suppressions=0}"
+export LSAN_OPTIONS="${LSAN_OPTIONS:-suppressions=$here/scripts/lsan-suppressions.txt:print_suppressions=0}"
 failed=0
 for t in "${targets[@]}"; do
   dir="$runs/$t"
