@@ -44,7 +44,8 @@ for t in "${targets[@]}"; do
   mkdir -p "$dir/corpus" "$dir/crashes"
   if [ -d "$here/test/fuzz/corpus/$t" ]; then cp -r "$here/test/fuzz/corpus/$t/." "$dir/corpus/"; fi
   rc=0
-  (cd "$dir" && "$build/test/fuzz/$t" -max_total_time="$seconds" -timeout="${timeout[$t]}" \
+  # GDM_FUZZ_SEED fixes libFuzzer's random seed (CI sets it; 0 = a new one each run).
+  (cd "$dir" && "$build/test/fuzz/$t" -seed="${GDM_FUZZ_SEED:-0}" -max_total_time="$seconds" -timeout="${timeout[$t]}" \
     -rss_limit_mb=2048 -malloc_limit_mb="${malloc_mb[$t]}" -max_len=8192 -print_final_stats=1 \
     -artifact_prefix="$dir/crashes/" "$dir/corpus" >"$dir/log" 2>&1) || rc=$?
   execs="$(grep -oE "stat::number_of_executed_units: *[0-9]+" "$dir/log" | grep -oE "[0-9]+$" || echo "?")"
