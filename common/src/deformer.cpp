@@ -12,6 +12,7 @@
 #include "gdm/intersection_guard.h"
 #include "gdm/option_catalogue.h"
 #include "gdm/parallel.h"
+#include "gdm/passage.h"
 #include "gdm/resampler.h"
 #include "gdm/seed.h"
 #include "gdm/surface_fit.h"
@@ -77,16 +78,20 @@ namespace {
 // One deformation run. Each step of a cycle is a small method.
 class Deformer {
  public:
-  Deformer(Mesh& mesh, const Volume& volume, const DeformOptions& options, const DeformObserver& observer)
+  // `volume` is what the model sees (the input, or the gap gate's crop of it);
+  // `input` is the caller's volume: its border is where a leak ends.
+  Deformer(Mesh& mesh, const Volume& volume, const Volume& input, const DeformOptions& options,
+           const DeformObserver& observer)
       : mesh_(mesh),
         volume_(volume),
+        input_(input),
         o_(options),
         observer_(observer),
         voxel_(volume.voxel_size()),
         threads_(resolve_thread_count(options.threads)),
         cost_{DeformationPotential(options.a0, options.reach, voxel_),
               ImageEvent(options.a1, volume, options.threshold, options.polarity, options.mode,
-                         effective_intensity_scale(options, volume)),
+                         effective_intensity_scale(options, input)),
               TopologyTerm(options.a2, options.lod_topology_extent ? lod_ring_extent(options, voxel_) : 0.0,
                            options.max_topology_ratio)} {
     max_travel_ = options.refinement_travel * lod_edge_length(options, voxel_);
@@ -109,9 +114,12 @@ class Deformer {
   void start_stage(int cycle);
   std::size_t count_border_vertices() const;
   void finish(int cycle, DeformResult& result);
+  bool held_by_gate(Mesh::VertexHandle v) const;
+  std::size_t relax_bridges();
 
   Mesh& mesh_;
   const Volume& volume_;
+  const Volume& input_;
   const DeformOptions& o_;
   const DeformObserver& observer_;
   double voxel_;
@@ -358,7 +366,7 @@ bool Deformer::run_cycle(int cycle) {
 std::size_t Deformer::count_border_vertices() const {
   std::size_t n = 0;
   for (auto v : mesh_.vertices())
-    if (!volume_.contains(to_eigen(mesh_.point(v)), 1.0)) ++n;
+    if (!input_.contains(to_eigen(mesh_.point(v)), 1.0)) ++n;
   return n;
 }
 
@@ -403,6 +411,62 @@ void Deformer::finish(int cycle, DeformResult& result) {
   mesh_.release_face_status();
 }
 
+// A vertex the gap gate holds: just outside it, the model's volume is
+// closed while the caller's is free (an opening narrower than the gap).
+bool Deformer::held_by_gate(Mesh::VertexHandle v) const {
+  const Vec3 p = to_eigen(mesh_.point(v));
+  Vec3 normal = Vec3::Zero();
+  for (auto f : mesh_.vf_range(v)) {
+    auto it = mesh_.cfv_iter(f);
+    const Vec3 a = to_eigen(mesh_.point(*it)), b = to_eigen(mesh_.point(*++it)), c = to_eigen(mesh_.point(*++it));
+    normal += (b - a).cross(c - a);
+  }
+  if (!(normal.norm() > 0.0)) return false;
+  const double sense = o_.mode == Mode::grow ? 1.0 : -1.0;
+  const Vec3 ahead = p + (sense * 0.75 * voxel_ / normal.norm()) * normal;
+  if (!input_.contains(ahead)) return false;
+  const ImageEvent input_event(1.0, input_, o_.threshold, o_.polarity, o_.mode, 1.0);
+  return cost_.image.is_blocked(ahead) && !input_event.is_blocked(ahead);
+}
+
+// Beyond the paper: a bridged opening is capped by a membrane, not by the
+// ball's bulge. The vertices the gate holds move toward the centroid of their
+// neighbours (a discrete minimal surface spanning the opening's rim, which
+// stays where the image put it), in vertex order, each move checked by the
+// guard and kept out of the caller's blocked region. Returns the vertices of
+// the caps.
+std::size_t Deformer::relax_bridges() {
+  std::vector<Mesh::VertexHandle> held;
+  for (auto v : mesh_.vertices())
+    if (held_by_gate(v)) held.push_back(v);
+  if (held.empty()) return 0;
+  const ImageEvent input_event(1.0, input_, o_.threshold, o_.polarity, o_.mode, 1.0);
+  const double max_move = 0.5 * o_.optimizer.max_step * voxel_;
+  auto guard = std::make_unique<IntersectionGuard>(mesh_, 2.0 * max_move, 1e-6 * voxel_ * voxel_);
+  for (int sweep = 0; sweep < 50; ++sweep) {
+    if (o_.prevent_self_intersection) guard->rebuild();
+    double largest = 0.0;
+    for (auto v : held) {
+      const Vec3 p = to_eigen(mesh_.point(v));
+      Vec3 centroid = Vec3::Zero();
+      int n = 0;
+      for (auto w : mesh_.vv_range(v)) {
+        centroid += to_eigen(mesh_.point(w));
+        ++n;
+      }
+      Vec3 step = centroid / n - p;
+      if (step.norm() > max_move) step *= max_move / step.norm();
+      const Vec3 q = p + step;
+      if (step.norm() < 1e-3 * voxel_ || input_event.is_blocked(q)) continue;
+      if (o_.prevent_self_intersection && !guard->move_is_safe(v, q)) continue;
+      mesh_.set_point(v, to_point(q));
+      largest = std::max(largest, step.norm());
+    }
+    if (largest < 0.01 * voxel_) break;
+  }
+  return held.size();
+}
+
 DeformResult Deformer::run() {
   DeformResult result;
   generation_property(mesh_);
@@ -443,7 +507,10 @@ DeformResult Deformer::run() {
     last_change_.clear();
     start_stage(cycle);
   }
-  if (result.reason == StopReason::converged || result.reason == StopReason::max_cycles) finish(cycle, result);
+  if (result.reason == StopReason::converged || result.reason == StopReason::max_cycles) {
+    finish(cycle, result);
+    if (&volume_ != &input_) result.bridge_vertices = relax_bridges();
+  }
   if (o_.float_exact_output && result.reason != StopReason::cancelled) result.float_refused = snap_to_float(mesh_).refused;
   result.cycles = cycle;
   result.global_refinements = report_.stage;
@@ -455,11 +522,36 @@ DeformResult Deformer::run() {
 
 }  // namespace
 
+namespace {
+
+// The gap gate (passage.h) seeded by the model's vertices and centroid.
+PassageGate gate_for(const Mesh& mesh, const Volume& volume, const DeformOptions& o) {
+  if (!gap_gate_active(o.gap, volume)) return {};
+  std::vector<Vec3> points;
+  Vec3 centroid = Vec3::Zero();
+  for (auto v : mesh.vertices()) {
+    points.push_back(to_eigen(mesh.point(v)));
+    centroid += points.back();
+  }
+  points.push_back(centroid / static_cast<double>(std::max<std::size_t>(1, mesh.n_vertices())));
+  PassageOptions passage;
+  passage.gap = o.gap;
+  passage.threshold = o.threshold;
+  // Table 1's duality: growing, the background is blocked; shrinking, the object.
+  passage.blocked_is_brighter = (o.polarity == Polarity::object_brighter) == (o.mode == Mode::shrink);
+  return gate_passages(volume, passage, points);
+}
+
+}  // namespace
+
 DeformResult deform(Mesh& mesh, const Volume& volume, const DeformOptions& options, const DeformObserver& observer) {
   validate(options, volume);
-  Deformer deformer(mesh, volume, options, observer);
-  deformer.check_seed();
-  return deformer.run();
+  Deformer(mesh, volume, volume, options, observer).check_seed();
+  const PassageGate gate = gate_for(mesh, volume, options);
+  DeformResult result = Deformer(mesh, gate.applied ? gate.volume : volume, volume, options, observer).run();
+  result.gap_closed_voxels = gate.closed_voxels;
+  result.gap_reachable_voxels = gate.reachable_voxels;
+  return result;
 }
 
 }  // namespace gdm

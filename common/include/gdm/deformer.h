@@ -34,6 +34,10 @@ struct DeformOptions {
   double refinement_travel = 0.5;    // after a global refinement a vertex moves at most this many
                                      // level-of-detail edge lengths from where the stage found it
   int global_refinements = 1;        // 1-to-4 resamplings, each after a convergence (section 6)
+  double gap = 0.0;                  // G, mm: the model passes only where a ball of diameter G fits and
+                                     // rolls from the seed (passage.h): openings narrower than G are
+                                     // bridged, channels wider are followed; 0 (or up to two voxels) =
+                                     // no gate, every channel two voxels wide is open
   int max_cycles = 2000;             // hard limit on deformation cycles, all stages together
   double convergence_tolerance = 0.5;  // a vertex counts as moving beyond this, voxels
   int convergence_window = 5;        // converged when nothing moved for this many cycles
@@ -96,6 +100,9 @@ struct DeformResult {
   std::size_t fit_moves = 0;      // vertex moves of the sub-voxel fit
   std::size_t lod_splits = 0;     // edges split by the error-driven level of detail
   std::size_t lod_collapses = 0;  // edges collapsed by the error-driven level of detail
+  std::size_t gap_closed_voxels = 0;     // free voxels no ball of the gap size reaches from the seed (0: no gate)
+  std::size_t gap_reachable_voxels = 0;  // free voxels it reaches (0: no gate)
+  std::size_t bridge_vertices = 0;       // vertices of the caps over bridged openings
   std::size_t float_refused = 0;  // vertices float_exact_output could not move safely (0 in practice)
 };
 
