@@ -19,6 +19,7 @@
 #include "gdm/seed.h"
 #include "gdm/surface_fit.h"
 #include "marching_cubes_surface.h"
+#include "shared_data.h"
 #include "surface_samples.h"
 
 using namespace gdm;
@@ -258,59 +259,13 @@ TEST(ErrorLod, cube_with_a_corner_missing_keeps_sharp_edges_with_fewer_faces) {
   EXPECT_LT(mesh.n_faces(), 4080u);
 }
 
-namespace {
-
-// A MetaImage (.mhd + raw, MET_UCHAR) read without ITK; empty on failure.
-bool read_mhd_uchar(const std::string& path, Volume& out, std::string& why) {
-  std::ifstream header(path);
-  if (!header) {
-    why = "cannot open " + path;
-    return false;
-  }
-  std::map<std::string, std::string> keys;
-  std::string line;
-  while (std::getline(header, line)) {
-    const auto eq = line.find('=');
-    if (eq == std::string::npos) continue;
-    auto trim = [](std::string s) {
-      s.erase(0, s.find_first_not_of(" \t\r"));
-      s.erase(s.find_last_not_of(" \t\r") + 1);
-      return s;
-    };
-    keys[trim(line.substr(0, eq))] = trim(line.substr(eq + 1));
-  }
-  if (keys["ElementType"] != "MET_UCHAR" || keys["NDims"] != "3") {
-    why = "only 3D MET_UCHAR images are read here";
-    return false;
-  }
-  Index3 dims;
-  Vec3 spacing = Vec3::Ones(), origin = Vec3::Zero();
-  std::istringstream(keys["DimSize"]) >> dims[0] >> dims[1] >> dims[2];
-  if (keys.count("ElementSpacing")) std::istringstream(keys["ElementSpacing"]) >> spacing[0] >> spacing[1] >> spacing[2];
-  if (keys.count("Offset")) std::istringstream(keys["Offset"]) >> origin[0] >> origin[1] >> origin[2];
-  const std::string dir = path.substr(0, path.find_last_of('/') + 1);
-  std::ifstream raw(dir + keys["ElementDataFile"], std::ios::binary);
-  const std::size_t n = static_cast<std::size_t>(dims[0]) * dims[1] * dims[2];
-  std::vector<unsigned char> bytes(n);
-  if (!raw || !raw.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(n))) {
-    why = "cannot read " + std::to_string(n) + " bytes of " + dir + keys["ElementDataFile"];
-    return false;
-  }
-  out = Volume(dims, std::vector<float>(bytes.begin(), bytes.end()), spacing, origin);
-  return true;
-}
-
-}  // namespace
 
 TEST(ErrorLod, tooth_pulp_against_marching_cubes) {
-  const char* env = std::getenv("GDM_SHARED_DIR");
-  const std::string file = std::string(env ? env : GDM_TEST_SHARED_DIR) + "/data/tooth/tooth.mhd";
   Volume volume;
   std::string why;
-  if (!read_mhd_uchar(file, volume, why))
-    GTEST_SKIP() << "tooth data not usable (" << why << "); set GDM_SHARED_DIR to the folder holding data/tooth";
-  constexpr double kToothThreshold = 115.0;  // pulp darker than dentin (see the ITK tooth test)
-  const Index3 seed_voxel{50, 47, 95};
+  if (!test::load_tooth(GDM_TEST_SHARED_DIR, volume, why)) GTEST_SKIP() << why;
+  constexpr double kToothThreshold = test::kToothPulpThreshold;
+  const Index3 seed_voxel = test::kToothPulpSeed;
   Mesh mesh = make_icosahedron(volume.to_physical(Vec3(seed_voxel[0], seed_voxel[1], seed_voxel[2])), 2.0);
   DeformOptions o;
   o.threshold = kToothThreshold;
@@ -323,20 +278,8 @@ TEST(ErrorLod, tooth_pulp_against_marching_cubes) {
   EXPECT_EQ(r.self_intersections, 0u);
   EXPECT_EQ(result.border_vertices, 0u);
 
-  // Marching cubes sees only the pulp: the 6-connected voxels below the
-  // threshold reached from the seed voxel. Other voxels below the threshold
-  // are set above it; voxels already above keep their value, so that the
-  // crossings on the pulp's cell edges are the true ones.
-  const auto& d = volume.dims();
-  const auto& values = volume.values();
-  const std::vector<char> pulp = ph::region_below(volume, seed_voxel, kToothThreshold);
-  std::vector<float> masked(values.size());
-  for (std::size_t i = 0; i < masked.size(); ++i)
-    masked[i] = pulp[i] || values[i] >= kToothThreshold ? values[i] : 255.0f;
-  const Volume pulp_volume(d, std::move(masked), volume.spacing(), volume.origin(), volume.direction());
-  auto triangles = test::marching_cubes(pulp_volume, kToothThreshold);
+  auto triangles = test::tooth_pulp_surface(volume);
   const std::size_t mc_faces = triangles.size();
-  ASSERT_EQ(mc_faces, ph::marching_cubes_triangle_count(pulp_volume, kToothThreshold));
   const TriangleLocator mc_surface(std::move(triangles));
   double sum = 0.0, worst = 0.0;
   const auto samples = test::surface_samples(mesh);

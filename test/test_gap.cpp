@@ -3,13 +3,19 @@
 // edges and noise; distances in voxels.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "gdm/deformer.h"
 #include "gdm/errors.h"
+#include "gdm/mesh_checks.h"
 #include "gdm/passage.h"
 #include "gdm/phantoms.h"
 #include "gdm/seed.h"
+#include "gdm/triangle_locator.h"
+#include "marching_cubes_surface.h"
+#include "shared_data.h"
 #include "mesh_expectations.h"
 
 namespace gdm {
@@ -129,6 +135,113 @@ TEST(Gap, seed_in_an_opening_narrower_than_the_gap_is_refused) {
   } catch (const InvalidSeed& e) {
     EXPECT_NE(std::string(e.what()).find("gap"), std::string::npos) << e.what();
   }
+}
+
+// A chamber (sphere of radius 9 voxels) with three channels 20 voxels long
+// beyond its wall, of widths 2, 3 and 4 voxels (round, with round ends).
+struct Channels {
+  ph::Grid grid;
+  ph::Sdf sdf;
+  Volume volume;
+};
+
+Channels make_channels(double noise_fraction, unsigned seed) {
+  Channels c;
+  c.grid.dims = {72, 72, 72};
+  const Vec3 o = c.grid.center();
+  const double chamber = 9.0, length = 20.0;
+  c.sdf = ph::unite({ph::sphere(o, chamber), ph::capsule(o, o + Vec3(chamber + length - 1.0, 0, 0), 1.0),
+                     ph::capsule(o, o + Vec3(0, chamber + length - 1.5, 0), 1.5),
+                     ph::capsule(o, o - Vec3(0, 0, chamber + length - 2.0), 2.0)});
+  c.volume = ph::with_gaussian_noise(ph::voxelize(c.grid, c.sdf, kLow, kHigh - kLow), noise_fraction * (kHigh - kLow), seed);
+  return c;
+}
+
+// Distances (voxels) from the true surface (marching cubes of the noise-free
+// phantom) to the model's faces.
+ph::DistanceStats truth_to_model(const Channels& c, const Mesh& mesh) {
+  const TriangleLocator model(triangles_of(mesh));
+  std::vector<double> d;
+  for (const Triangle& t : test::marching_cubes(ph::voxelize(c.grid, c.sdf, kLow, kHigh - kLow), kThreshold))
+    d.push_back(model.distance(t[0]) / c.volume.voxel_size());
+  return ph::distance_stats(std::move(d));
+}
+
+TEST(Gap, channels_two_to_four_voxels_wide_are_followed_to_their_ends_at_the_default_level_of_detail) {
+  for (const double noise : {0.03, 0.08}) {
+    const Channels c = make_channels(noise, 29u);
+    Mesh mesh = make_geodesic_sphere(c.grid.center(), 3.0, 1);
+    DeformOptions o;
+    o.threshold = kThreshold;
+    o.stop_at_border = true;
+    const DeformResult r = deform(mesh, c.volume, o);
+    test::expect_valid_closed_surface(mesh);
+    EXPECT_EQ(r.reason, StopReason::converged);
+    const ph::DistanceStats truth = truth_to_model(c, mesh);
+    const ph::DistanceStats model = ph::vertex_distances(mesh, c.sdf, c.volume.voxel_size());
+    EXPECT_LE(truth.max, 1.0) << "noise " << noise << ": a channel is not followed to its end (truth to model mean "
+                              << truth.mean << ", p95 " << truth.p95 << ")";
+    EXPECT_LE(model.mean, 0.15) << "noise " << noise;
+  }
+}
+
+// The real tooth's pulp at the default settings: its canals are followed.
+TEST(Gap, tooth_pulp_at_the_defaults_follows_the_canals) {
+  Volume tooth;
+  std::string why;
+  if (!test::load_tooth(GDM_TEST_SHARED_DIR, tooth, why)) GTEST_SKIP() << why;
+  const Index3 s = test::kToothPulpSeed;
+  // The seed the pipeline makes for a seed voxel: a sphere of two voxels.
+  Mesh mesh = make_geodesic_sphere(tooth.to_physical(Vec3(s[0], s[1], s[2])), 2.0 * tooth.voxel_size(), 1);
+  DeformOptions o;
+  o.threshold = test::kToothPulpThreshold;
+  o.polarity = Polarity::object_darker;
+  o.stop_at_border = true;
+  const DeformResult r = deform(mesh, tooth, o);
+  test::expect_valid_closed_surface(mesh);
+  EXPECT_EQ(r.reason, StopReason::converged);
+  const std::vector<char> pulp = test::tooth_pulp_voxels(tooth);
+  const double voxel_volume = tooth.spacing().prod();
+  const double flood = voxel_volume * static_cast<double>(std::count(pulp.begin(), pulp.end(), 1));
+  const double volume = measure(mesh).volume;
+  // Where the pulp is at least two voxels wide: pulp voxels whose six
+  // neighbours are pulp too, and the voxels next to them. The canals' last
+  // voxels, one voxel wide, are narrower than the default gap.
+  const Index3& n = tooth.dims();
+  const auto at = [&](int i, int j, int k) {
+    return static_cast<std::size_t>(i) + static_cast<std::size_t>(n[0]) * (static_cast<std::size_t>(j) + static_cast<std::size_t>(n[1]) * k);
+  };
+  const int offsets[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  std::vector<char> core(pulp.size(), 0), wide(pulp.size(), 0);
+  for (int k = 1; k + 1 < n[2]; ++k)
+    for (int j = 1; j + 1 < n[1]; ++j)
+      for (int i = 1; i + 1 < n[0]; ++i) {
+        bool inside = pulp[at(i, j, k)];
+        for (const auto& o6 : offsets) inside = inside && pulp[at(i + o6[0], j + o6[1], k + o6[2])];
+        core[at(i, j, k)] = inside;
+      }
+  for (int k = 1; k + 1 < n[2]; ++k)
+    for (int j = 1; j + 1 < n[1]; ++j)
+      for (int i = 1; i + 1 < n[0]; ++i)
+        for (int dk = -1; dk <= 1; ++dk)
+          for (int dj = -1; dj <= 1; ++dj)
+            for (int di = -1; di <= 1; ++di) wide[at(i, j, k)] |= core[at(i + di, j + dj, k + dk)];
+  const TriangleLocator model(triangles_of(mesh));
+  std::vector<double> all, in_wide;
+  for (const Triangle& t : test::tooth_pulp_surface(tooth)) {
+    const double e = model.distance(t[0]) / tooth.voxel_size();
+    all.push_back(e);
+    const Vec3 c = tooth.to_continuous_index(t[0]);
+    const int i = static_cast<int>(std::lround(c.x())), j = static_cast<int>(std::lround(c.y())), k = static_cast<int>(std::lround(c.z()));
+    if (i >= 0 && j >= 0 && k >= 0 && i < n[0] && j < n[1] && k < n[2] && wide[at(i, j, k)]) in_wide.push_back(e);
+  }
+  const ph::DistanceStats truth = ph::distance_stats(std::move(all)), wide_truth = ph::distance_stats(std::move(in_wide));
+  std::printf("tooth pulp at the defaults: %zu faces, volume %.1f vs %.1f flood-filled (%+.1f %%); truth to model mean %.3f "
+              "p95 %.3f max %.3f voxel, where the pulp is two voxels wide or more: max %.3f\n",
+              mesh.n_faces(), volume, flood, 100.0 * (volume / flood - 1.0), truth.mean, truth.p95, truth.max, wide_truth.max);
+  EXPECT_LE(std::abs(volume / flood - 1.0), 0.04);
+  EXPECT_LE(truth.p95, 0.5);
+  EXPECT_LE(wide_truth.max, 2.0);
 }
 
 }  // namespace

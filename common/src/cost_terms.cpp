@@ -40,9 +40,10 @@ double ImageEvent::cost(const Vec3& x) const {
 }
 
 double TopologyTerm::cost(const VertexNeighbourhood& n, const Vec3& x) const {
-  if (max_ratio_ < std::numeric_limits<double>::infinity()) {
+  const double limit = n.refined ? std::max(max_ratio_, kRefinedMaxRatio) : max_ratio_;
+  if (limit < std::numeric_limits<double>::infinity()) {
     const double r = ratio(n, x);
-    if (r > max_ratio_ && r > ratio(n, n.position)) return std::numeric_limits<double>::infinity();
+    if (r > limit && r > ratio(n, n.position)) return std::numeric_limits<double>::infinity();
   }
   if (weight_ == 0.0) return 0.0;
   return weight_ * (x - n.ring_centroid).norm() / std::max(n.ring_extent, min_extent_);

@@ -103,6 +103,7 @@ class Deformer {
  private:
   bool run_cycle(int cycle);
   void compute_face_normals();
+  double face_normal_area(Mesh::FaceHandle f) const;  // twice the face's area, mm^2
   VertexNeighbourhood neighbourhood(Mesh::VertexHandle v) const;
   std::vector<int> evaluate_active(std::vector<StepResult>& steps);
   std::size_t apply_moves(const std::vector<int>& candidates, const std::vector<StepResult>& steps,
@@ -115,6 +116,9 @@ class Deformer {
   std::size_t count_border_vertices() const;
   void finish(int cycle, DeformResult& result);
   bool held_by_gate(Mesh::VertexHandle v) const;
+  bool object_ahead(Mesh::FaceHandle f) const;
+  bool at_wall(Mesh::VertexHandle v) const;
+  std::size_t refine_where_blocked(int cycle);
   std::size_t relax_bridges();
 
   Mesh& mesh_;
@@ -137,6 +141,9 @@ class Deformer {
   std::vector<Vec3> anchor_;          // position when last counted as moving
   std::vector<Vec3> stage_start_;     // position when the stage began or the vertex was created
   std::vector<int> last_change_;      // cycle the vertex last moved beyond the tolerance
+  std::vector<double> local_area_;    // faces around the vertex are split above this area, mm^2
+                                      // (the level of detail, or finer where refine_where_blocked asked)
+  int local_rounds_ = 0;              // rounds of refine_where_blocked so far
   std::vector<Vec3> face_normal_;     // unnormalised, per face, for the cycle
   int last_split_cycle_ = 0;
   std::size_t flips_ = 0;
@@ -179,7 +186,19 @@ void Deformer::grow_per_vertex_state() {
   anchor_.resize(n);
   stage_start_.resize(n);
   last_change_.resize(n, 0);
+  local_area_.resize(n, o_.lod_face_area * voxel_ * voxel_);
   for (std::size_t i = old; i < n; ++i) {
+    // A vertex made by a split (at the midpoint of two of its neighbours) is
+    // as fine as the coarser end of the split edge: fineness does not spread.
+    const Mesh::VertexHandle m(static_cast<int>(i));
+    const Vec3 pm = to_eigen(mesh_.point(m));
+    std::vector<Mesh::VertexHandle> ring(mesh_.vv_begin(m), mesh_.vv_end(m));
+    for (std::size_t x = 0; x < ring.size(); ++x)
+      for (std::size_t y = x + 1; y < ring.size(); ++y)
+        if (static_cast<std::size_t>(ring[x].idx()) < old && static_cast<std::size_t>(ring[y].idx()) < old &&
+            (0.5 * (to_eigen(mesh_.point(ring[x])) + to_eigen(mesh_.point(ring[y]))) - pm).squaredNorm() <
+                1e-12 * voxel_ * voxel_)
+          local_area_[i] = std::max(local_area_[ring[x].idx()], local_area_[ring[y].idx()]);
     anchor_[i] = to_eigen(mesh_.point(Mesh::VertexHandle(static_cast<int>(i))));
     stage_start_[i] = anchor_[i];
     last_change_[i] = report_.cycle;
@@ -227,6 +246,8 @@ VertexNeighbourhood Deformer::neighbourhood(Mesh::VertexHandle v) const {
   for (std::size_t j = 0; j < ring.size(); ++j)
     for (std::size_t k = j + 1; k < ring.size(); ++k) extent2 = std::max(extent2, (ring[j] - ring[k]).squaredNorm());
   n.ring_extent = extent2 > 0.0 ? std::sqrt(extent2) : voxel_;
+  n.refined = v.idx() < static_cast<int>(local_area_.size()) &&
+              local_area_[v.idx()] < o_.lod_face_area * voxel_ * voxel_;
 
   // Section 5: grow moves along the outward normal, shrink against it; a vertex
   // lying in the region the model must not enter reverses its sense locally.
@@ -252,7 +273,7 @@ std::vector<int> Deformer::evaluate_active(std::vector<StepResult>& steps) {
       // After a global refinement the model only refines what it found: a
       // vertex may not travel far (a leak through a hole the finer mesh could
       // now pass).
-      const bool travels_too_far = report_.stage > 0 && (r.position - stage_start_[v.idx()]).norm() > max_travel_;
+      const bool travels_too_far = report_.stage > 0 && !n.refined && (r.position - stage_start_[v.idx()]).norm() > max_travel_;
       if (recrosses || travels_too_far) {
         r.moved = false;
         r.position = n.position;
@@ -318,8 +339,11 @@ void Deformer::activate_around(Mesh::VertexHandle v) {
 
 std::size_t Deformer::resample(int cycle) {
   const std::size_t before = mesh_.n_vertices();
-  const double max_area = o_.lod_face_area * voxel_ * voxel_;
-  const std::size_t splits = split_large_faces(mesh_, max_area, cycle);
+  const std::size_t splits = split_longest_edges(mesh_, cycle, [&](Mesh::FaceHandle f, Mesh::HalfedgeHandle) {
+    double target = 0.0;  // fine only where all three corners are
+    for (auto v : mesh_.fv_range(f)) target = std::max(target, local_area_[v.idx()]);
+    return 0.5 * face_normal_area(f) > target;
+  });
   grow_per_vertex_state();
   for (std::size_t i = before; i < mesh_.n_vertices(); ++i) activate_around(Mesh::VertexHandle(static_cast<int>(i)));
   if (splits > 0) last_split_cycle_ = cycle;
@@ -339,6 +363,83 @@ std::size_t Deformer::resample(int cycle) {
     flips_ += flip_to_improve(mesh_, o_.flip_max_dihedral, veto);
   }
   return splits;
+}
+
+double Deformer::face_normal_area(Mesh::FaceHandle f) const {
+  auto it = mesh_.cfv_iter(f);
+  const Vec3 a = to_eigen(mesh_.point(*it)), b = to_eigen(mesh_.point(*++it)), c = to_eigen(mesh_.point(*++it));
+  return (b - a).cross(c - a).norm();
+}
+
+// Whether the image says the model could go on through face f: at some point
+// of the face (a grid about half a voxel apart), the image is on the free
+// side one and two voxels ahead along the face's normal (the sense of
+// deformation). Faces that converged on the object's boundary see the
+// blocked region there.
+bool Deformer::object_ahead(Mesh::FaceHandle f) const {
+  auto it = mesh_.cfv_iter(f);
+  const Vec3 a = to_eigen(mesh_.point(*it)), b = to_eigen(mesh_.point(*++it)), c = to_eigen(mesh_.point(*++it));
+  const Vec3 cross = (b - a).cross(c - a);
+  const double len = cross.norm();
+  if (!(len > 0.0)) return false;
+  const Vec3 ahead = ((o_.mode == Mode::grow ? 1.0 : -1.0) * voxel_ / len) * cross;
+  const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
+  const int k = std::max(2, static_cast<int>(std::ceil(longest / (0.5 * voxel_))));
+  for (int i = 0; i <= k; ++i)
+    for (int j = 0; i + j <= k; ++j) {
+      const Vec3 p = a + (static_cast<double>(i) / k) * (b - a) + (static_cast<double>(j) / k) * (c - a);
+      bool free = true;
+      for (int d = 1; d <= 2 && free; ++d) free = !cost_.image.is_blocked(p + d * ahead);
+      if (free) return true;
+    }
+  return false;
+}
+
+// A vertex that stands against a wall: the blocked region starts within a
+// voxel ahead of it and is still there three voxels ahead (not a noise
+// speck, not the object's boundary seen from a voxel or two inside).
+bool Deformer::at_wall(Mesh::VertexHandle v) const {
+  Vec3 normal = Vec3::Zero();
+  for (auto f : mesh_.vf_range(v)) normal += face_normal_[f.idx()];
+  if (!(normal.norm() > 0.0)) return false;
+  const Vec3 step = ((o_.mode == Mode::grow ? 1.0 : -1.0) * voxel_ / normal.norm()) * normal;
+  const Vec3 p = to_eigen(mesh_.point(v));
+  if (!cost_.image.is_blocked(p + 0.5 * step) && !cost_.image.is_blocked(p + step)) return false;
+  for (const double d : {2.0, 2.5, 3.0})
+    if (!cost_.image.is_blocked(p + d * step)) return false;
+  return true;
+}
+
+// Beyond the paper (issue 14): the level of detail sets face sizes, not where
+// the model may go. After a convergence, faces larger than the finest size
+// behind which the image still shows free room (a channel's mouth narrower
+// than the faces) ask for smaller faces around them, locally: their vertices'
+// area limit drops to a quarter of the face, never below one voxel^2 (faces
+// of about 1.5 voxels, enough for a channel two voxels wide). Returns the
+// faces that asked.
+std::size_t Deformer::refine_where_blocked(int cycle) {
+  compute_face_normals();
+  const double finest = std::min(0.5, o_.lod_face_area) * voxel_ * voxel_;
+  std::vector<int> asking;
+  for (auto f : mesh_.faces()) {
+    const double area = 0.5 * face_normal_area(f);
+    if (!(area > 2.0 * finest) || !object_ahead(f)) continue;
+    // The face spans the mouth of a channel: its corners stand on the wall
+    // around it, its middle sees into the channel.
+    int walled = 0;
+    for (auto v : mesh_.fv_range(f)) walled += at_wall(v) ? 1 : 0;
+    if (walled >= 2) asking.push_back(f.idx());
+  }
+  for (int i : asking) {
+    const Mesh::FaceHandle f(i);
+    const double target = std::max(finest, 0.25 * 0.5 * face_normal_area(f));
+    for (auto v : mesh_.fv_range(f)) {
+      local_area_[v.idx()] = std::min(local_area_[v.idx()], target);
+      activate_around(v);
+    }
+  }
+  if (!asking.empty()) last_split_cycle_ = cycle;
+  return asking.size();
 }
 
 bool Deformer::converged(int cycle) const {
@@ -491,6 +592,13 @@ DeformResult Deformer::run() {
       break;
     }
     if (!converged(cycle)) continue;
+    // Local refinement where faces are too large to enter what lies ahead,
+    // once the last stage converged (the model is then as fine as the level
+    // of detail asks everywhere else; refined vertices may travel).
+    if (report_.stage == o_.global_refinements && local_rounds_ < 16 && refine_where_blocked(cycle) > 0) {
+      ++local_rounds_;
+      continue;
+    }
     if (report_.stage >= o_.global_refinements) {
       result.reason = StopReason::converged;
       break;
@@ -505,6 +613,7 @@ DeformResult Deformer::run() {
     anchor_.clear();
     stage_start_.clear();
     last_change_.clear();
+    local_area_.clear();
     start_stage(cycle);
   }
   if (result.reason == StopReason::converged || result.reason == StopReason::max_cycles) {

@@ -25,6 +25,8 @@ struct VertexNeighbourhood {
   double sense = 1.0;                  // +1 deform along the normal, -1 against it (section 5)
   Vec3 ring_centroid = Vec3::Zero();   // centroid of the 1-ring neighbours (eq. 3)
   double ring_extent = 1.0;            // largest distance between two 1-ring neighbours (eq. 3)
+  bool refined = false;                // the model refined itself here to enter a channel the image shows
+                                       // (deformer.h, gap): TopologyTerm's hard limit is raised
 };
 
 // D, the deformation potential by normal tracking (section 3.1.1): the vertex
@@ -89,8 +91,14 @@ class ImageEvent {
 // ratio of the current position. A finger thinner than about one edge length
 // (a leak through a hole smaller than the level of detail) needs ratios near
 // 0.5 at its tip; cube corners and tubes wider than two edges stay below 0.45.
+// Where the model refined itself to follow a channel the image shows
+// (VertexNeighbourhood::refined), the limit is raised to kRefinedMaxRatio: a
+// finger two of its edges wide (a channel two voxels wide at the finest
+// faces) passes; whether to pass is then the gap size's decision
+// (passage.h), not the face size's.
 class TopologyTerm {
  public:
+  static constexpr double kRefinedMaxRatio = 0.7;
   explicit TopologyTerm(double weight, double min_extent = 0.0,
                         double max_ratio = std::numeric_limits<double>::infinity())
       : weight_(weight), min_extent_(min_extent), max_ratio_(max_ratio) {}
