@@ -48,6 +48,7 @@ std::vector<FilterParam> volume_head() {
 
 std::vector<FilterParam> volume_tail() {
   return {
+      option("gap"),
       option("lod_face_area"),
       option("lod_tolerance"),
       option("allow_border"),

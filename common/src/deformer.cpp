@@ -31,6 +31,14 @@ std::string to_string(StopReason reason) {
   return "unknown";
 }
 
+std::string gap_summary(const DeformResult& r) {
+  if (r.gap_closed_voxels == 0 && r.gap_reachable_voxels == 0) return {};
+  return "gap: " + std::to_string(r.gap_closed_voxels) +
+         " free voxels beyond openings or channels narrower than the gap closed (" +
+         std::to_string(r.gap_reachable_voxels) + " reachable); caps over bridged openings: " +
+         std::to_string(r.bridge_vertices) + " vertices";
+}
+
 namespace {
 
 void require(bool ok, const std::string& message) {
@@ -371,11 +379,13 @@ double Deformer::face_normal_area(Mesh::FaceHandle f) const {
   return (b - a).cross(c - a).norm();
 }
 
-// Whether the image says the model could go on through face f: at some point
-// of the face (a grid about half a voxel apart), the image is on the free
-// side one and two voxels ahead along the face's normal (the sense of
-// deformation). Faces that converged on the object's boundary see the
-// blocked region there.
+// Whether face f spans the mouth of a channel narrower than itself: at some
+// of the points of the face (a grid about half a voxel apart), but at most
+// half of them, the image is on the free side one and two voxels ahead along
+// the face's normal (the sense of deformation). Faces that converged on the
+// object's boundary see the blocked region ahead everywhere; faces that see
+// free room over most of their area are not too large for what lies ahead
+// (held by noise or by the model's own smoothness, not by their size).
 bool Deformer::object_ahead(Mesh::FaceHandle f) const {
   auto it = mesh_.cfv_iter(f);
   const Vec3 a = to_eigen(mesh_.point(*it)), b = to_eigen(mesh_.point(*++it)), c = to_eigen(mesh_.point(*++it));
@@ -385,14 +395,22 @@ bool Deformer::object_ahead(Mesh::FaceHandle f) const {
   const Vec3 ahead = ((o_.mode == Mode::grow ? 1.0 : -1.0) * voxel_ / len) * cross;
   const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
   const int k = std::max(2, static_cast<int>(std::ceil(longest / (0.5 * voxel_))));
+  // Across the channel, 0.7 voxel to each side of its axis is free too: a
+  // channel at least two voxels wide (the default gap), not a crack.
+  const Vec3 u = (0.7 * voxel_) * ahead.normalized().unitOrthogonal();
+  const Vec3 w = ahead.normalized().cross(u);
+  const auto is_free = [&](const Vec3& q) { return !cost_.image.is_blocked(q); };
+  int points = 0, free = 0;
   for (int i = 0; i <= k; ++i)
     for (int j = 0; i + j <= k; ++j) {
       const Vec3 p = a + (static_cast<double>(i) / k) * (b - a) + (static_cast<double>(j) / k) * (c - a);
-      bool free = true;
-      for (int d = 1; d <= 2 && free; ++d) free = !cost_.image.is_blocked(p + d * ahead);
-      if (free) return true;
+      ++points;
+      const Vec3 q = p + 1.5 * ahead;
+      if (is_free(p + ahead) && is_free(p + 2.0 * ahead) && is_free(q + u) && is_free(q - u) && is_free(q + w) &&
+          is_free(q - w))
+        ++free;
     }
-  return false;
+  return free > 0 && 2 * free <= points;
 }
 
 // A vertex that stands against a wall: the blocked region starts within a
@@ -429,6 +447,7 @@ std::size_t Deformer::refine_where_blocked(int cycle) {
     int walled = 0;
     for (auto v : mesh_.fv_range(f)) walled += at_wall(v) ? 1 : 0;
     if (walled >= 2) asking.push_back(f.idx());
+
   }
   for (int i : asking) {
     const Mesh::FaceHandle f(i);
@@ -595,7 +614,8 @@ DeformResult Deformer::run() {
     // Local refinement where faces are too large to enter what lies ahead,
     // once the last stage converged (the model is then as fine as the level
     // of detail asks everywhere else; refined vertices may travel).
-    if (report_.stage == o_.global_refinements && local_rounds_ < 16 && refine_where_blocked(cycle) > 0) {
+    if (o_.refine_channels && report_.stage == o_.global_refinements && local_rounds_ < 16 &&
+        refine_where_blocked(cycle) > 0) {
       ++local_rounds_;
       continue;
     }

@@ -112,6 +112,7 @@ std::vector<Entry> make_catalogue() {
       special(real(row("max_topology_ratio", model, "", "hard limit on eq. 3's ratio, against leaks through narrow gaps"), 0.0, open, kInf, open, F(o.max_topology_ratio)), kInf, "inf = off"),
       special(real(row("refinement_travel", model, "level-of-detail edge lengths", "after a global refinement a vertex moves at most this far from where the stage found it"), 0.0, open, kInf, open, F(o.refinement_travel)), kInf, "inf = off"),
       special(real(row("gap", model, "mm", "gap size G: the model passes only where a ball of diameter G fits, so openings in the object's wall narrower than G are bridged and channels wider than G are followed, whatever the level of detail"), 0.0, open, 1e9, closed, F(o.gap)), 0.0, "0 (two voxels: no gate)"),
+      boolean(row("refine_channels", model, "", "once converged, refine locally where faces are too large to enter a channel the image shows (the level of detail then sets face sizes, the gap where the model goes)"), F(o.refine_channels)),
       alias(integer(row("global_refinements", model, "", "global 1-to-4 resamplings, each after a convergence (section 6)"), 0, 4, F(o.global_refinements)), "refinements"),
       integer(row("max_cycles", model, "cycles", "hard limit on deformation cycles, all stages"), 1, int_max, F(o.max_cycles)),
       alias(real(row("convergence_tolerance", model, "voxels", "a vertex counts as moving beyond this"), 0.0, open, kInf, open, F(o.convergence_tolerance)), "tolerance"),

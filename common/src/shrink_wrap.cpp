@@ -53,6 +53,8 @@ DeformOptions model_options(const WrapOptions& w) {
   o.global_refinements = w.global_refinements;
   o.max_cycles = w.max_cycles;
   o.threads = w.threads;
+  // The wrap bridges the input's holes: no refinement to enter what lies behind them.
+  o.refine_channels = false;
   return o;
 }
 

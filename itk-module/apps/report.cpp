@@ -63,6 +63,7 @@ std::string summary_text(const RunRecord& r) {
   part(r.model.lod_collapses, "lod collapses");
   part(r.model.float_refused, "vertices not float-exact");
   if (!finish.empty()) s << "  after convergence: " << finish << "\n";
+  if (r.model.gap_closed_voxels > 0) s << "  " << gdm::gap_summary(r.model) << "\n";
   s << "  closed " << (m.closed ? "yes" : "NO") << ", manifold " << (m.two_manifold ? "yes" : "NO") << ", genus "
     << m.genus << ", components " << m.components << ", self-intersections " << m.self_intersections << "\n"
     << "  volume " << fixed(m.volume, 1) << " mm^3 = " << fixed(m.volume / 1000.0, 3) << " ml, area "
@@ -112,6 +113,9 @@ std::string report_json(const RunRecord& r, const Options& options) {
       .add("lod_splits", json_number(r.model.lod_splits))
       .add("lod_collapses", json_number(r.model.lod_collapses))
       .add("float_refused", json_number(r.model.float_refused))
+      .add("gap_closed_voxels", json_number(r.model.gap_closed_voxels))
+      .add("gap_reachable_voxels", json_number(r.model.gap_reachable_voxels))
+      .add("bridge_vertices", json_number(r.model.bridge_vertices))
       .add("seconds", json_number(r.model_seconds));
 
   const gdm::MeshReport& m = r.mesh;

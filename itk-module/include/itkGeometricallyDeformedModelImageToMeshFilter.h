@@ -317,6 +317,13 @@ public:
   itkSetMacro(RefinementTravel, double);
   itkGetConstMacro(RefinementTravel, double);
 
+  /** Gap size G, physical units: the model passes only where a ball of
+   * diameter G fits, so openings in the object's wall narrower than G are
+   * bridged (capped) and channels wider than G are followed; 0 (or up to two
+   * voxels) = no gate. */
+  itkSetMacro(GapSize, double);
+  itkGetConstMacro(GapSize, double);
+
   /** Sub-voxel final fit onto the threshold crossing (beyond the paper). */
   itkSetMacro(SubvoxelFit, bool);
   itkGetConstMacro(SubvoxelFit, bool);
@@ -385,6 +392,10 @@ public:
   itkGetConstMacro(NumberOfLevelOfDetailCollapses, SizeValueType);
   /** Vertices FloatExactOutput could not move safely onto a float point (0 in practice). */
   itkGetConstMacro(NumberOfFloatRefusedVertices, SizeValueType);
+  /** Free voxels the gap closed (beyond openings or channels narrower than
+   * GapSize; 0 without a gate) and vertices of the caps over bridged openings. */
+  itkGetConstMacro(NumberOfGapClosedVoxels, SizeValueType);
+  itkGetConstMacro(NumberOfBridgeVertices, SizeValueType);
 
   /** The cycle just done, readable during a ProgressEvent (the core's
    * CycleReport). Cycle is 1-based, 0 before the first cycle of a run; Stage
@@ -463,6 +474,7 @@ private:
   SizeValueType m_MaximumNumberOfFaces;
   double        m_MaximumTopologyRatio;
   double        m_RefinementTravel;
+  double        m_GapSize;
   bool          m_SubvoxelFit;
   unsigned int  m_NumberOfFitPasses;
   double        m_FitMaximumDistance;
@@ -487,6 +499,8 @@ private:
   SizeValueType m_NumberOfLevelOfDetailSplits{ 0 };
   SizeValueType m_NumberOfLevelOfDetailCollapses{ 0 };
   SizeValueType m_NumberOfFloatRefusedVertices{ 0 };
+  SizeValueType m_NumberOfGapClosedVoxels{ 0 };
+  SizeValueType m_NumberOfBridgeVertices{ 0 };
 
   SizeValueType m_CurrentCycle{ 0 };
   SizeValueType m_CurrentStage{ 0 };

@@ -61,6 +61,7 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::SetDeform
   m_MaximumNumberOfFaces = static_cast<SizeValueType>(o.max_faces);
   m_MaximumTopologyRatio = o.max_topology_ratio;
   m_RefinementTravel = o.refinement_travel;
+  m_GapSize = o.gap;
   m_SubvoxelFit = o.subvoxel_fit;
   m_NumberOfFitPasses = static_cast<unsigned int>(o.fit_passes);
   m_FitMaximumDistance = o.fit_max_distance;
@@ -146,6 +147,7 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::GetDeform
   o.max_faces = static_cast<std::size_t>(m_MaximumNumberOfFaces);
   o.max_topology_ratio = m_MaximumTopologyRatio;
   o.refinement_travel = m_RefinementTravel;
+  o.gap = m_GapSize;
   o.subvoxel_fit = m_SubvoxelFit;
   o.fit_passes = static_cast<int>(std::min<unsigned int>(m_NumberOfFitPasses, 1000000u));
   o.fit_max_distance = m_FitMaximumDistance;
@@ -186,6 +188,8 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::GenerateD
   m_NumberOfLevelOfDetailSplits = 0;
   m_NumberOfLevelOfDetailCollapses = 0;
   m_NumberOfFloatRefusedVertices = 0;
+  m_NumberOfGapClosedVoxels = 0;
+  m_NumberOfBridgeVertices = 0;
   this->SetCurrentCycleReport(gdm::CycleReport{});
 
   if constexpr (InputImageDimension != 3)
@@ -270,6 +274,8 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::GenerateD
     m_NumberOfLevelOfDetailSplits = static_cast<SizeValueType>(result.lod_splits);
     m_NumberOfLevelOfDetailCollapses = static_cast<SizeValueType>(result.lod_collapses);
     m_NumberOfFloatRefusedVertices = static_cast<SizeValueType>(result.float_refused);
+    m_NumberOfGapClosedVoxels = static_cast<SizeValueType>(result.gap_closed_voxels);
+    m_NumberOfBridgeVertices = static_cast<SizeValueType>(result.bridge_vertices);
 
     if (result.reason == gdm::StopReason::cancelled || this->GetAbortGenerateData())
     {
@@ -334,6 +340,7 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::PrintSelf
   os << indent << "MaximumNumberOfFaces: " << m_MaximumNumberOfFaces << std::endl;
   os << indent << "MaximumTopologyRatio: " << m_MaximumTopologyRatio << std::endl;
   os << indent << "RefinementTravel: " << m_RefinementTravel << std::endl;
+  os << indent << "GapSize: " << m_GapSize << std::endl;
   os << indent << "SubvoxelFit: " << (m_SubvoxelFit ? "On" : "Off") << std::endl;
   os << indent << "NumberOfFitPasses: " << m_NumberOfFitPasses << std::endl;
   os << indent << "FitMaximumDistance: " << m_FitMaximumDistance << std::endl;
@@ -355,6 +362,8 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::PrintSelf
   os << indent << "NumberOfLevelOfDetailSplits: " << m_NumberOfLevelOfDetailSplits << std::endl;
   os << indent << "NumberOfLevelOfDetailCollapses: " << m_NumberOfLevelOfDetailCollapses << std::endl;
   os << indent << "NumberOfFloatRefusedVertices: " << m_NumberOfFloatRefusedVertices << std::endl;
+  os << indent << "NumberOfGapClosedVoxels: " << m_NumberOfGapClosedVoxels << std::endl;
+  os << indent << "NumberOfBridgeVertices: " << m_NumberOfBridgeVertices << std::endl;
   os << indent << "CurrentCycle: " << m_CurrentCycle << std::endl;
   os << indent << "CurrentStage: " << m_CurrentStage << std::endl;
   os << indent << "CurrentNumberOfVertices: " << m_CurrentNumberOfVertices << std::endl;

@@ -61,6 +61,7 @@ ExerciseBasicsAndSetGet()
   ITK_TEST_SET_GET_VALUE(static_cast<unsigned int>(d.max_cycles), filter->GetMaximumNumberOfCycles());
   ITK_TEST_SET_GET_VALUE(d.max_topology_ratio, filter->GetMaximumTopologyRatio());
   ITK_TEST_SET_GET_VALUE(d.refinement_travel, filter->GetRefinementTravel());
+  ITK_TEST_SET_GET_VALUE(d.gap, filter->GetGapSize());
   ITK_TEST_SET_GET_VALUE(d.subvoxel_fit, filter->GetSubvoxelFit());
   ITK_TEST_SET_GET_VALUE(static_cast<unsigned int>(d.fit_passes), filter->GetNumberOfFitPasses());
   ITK_TEST_SET_GET_VALUE(d.fit_max_distance, filter->GetFitMaximumDistance());
@@ -137,6 +138,7 @@ ExerciseBasicsAndSetGet()
   ITK_TEST_SET_GET_VALUE(3u, (filter->SetLevelOfDetailRounds(3), filter->GetLevelOfDetailRounds()));
   ITK_TEST_SET_GET_VALUE(0.8, (filter->SetMaximumTopologyRatio(0.8), filter->GetMaximumTopologyRatio()));
   ITK_TEST_SET_GET_VALUE(1.25, (filter->SetRefinementTravel(1.25), filter->GetRefinementTravel()));
+  ITK_TEST_SET_GET_VALUE(4.5, (filter->SetGapSize(4.5), filter->GetGapSize()));
   ITK_TEST_SET_GET_BOOLEAN(filter, FloatExactOutput, true);
   filter->FloatExactOutputOff();
   FilterType::PointType center;
@@ -180,7 +182,7 @@ ExerciseBasicsAndSetGet()
          "MaximumNumberOfCycles", "ConvergenceTolerance", "ConvergenceWindow", "PreventSelfIntersection",
          "ImproveTriangles", "FlipMaximumDihedralAngle", "MaximumNumberOfFaces", "SubvoxelFit", "NumberOfFitPasses",
          "FitMaximumDistance", "FitSmoothing", "LevelOfDetailTolerance", "LevelOfDetailMinimumAngle", "LevelOfDetailRounds",
-         "MaximumTopologyRatio", "RefinementTravel", "FloatExactOutput", "SeedCenter", "SeedRadius",
+         "MaximumTopologyRatio", "RefinementTravel", "GapSize", "NumberOfGapClosedVoxels", "FloatExactOutput", "SeedCenter", "SeedRadius",
          "SeedSubdivisionLevel", "StopReason", "NumberOfCycles", "NumberOfGlobalRefinementsPerformed",
          "NumberOfRejectedMoves", "NumberOfFlips", "NumberOfBorderVertices", "NumberOfFitMoves",
          "NumberOfLevelOfDetailSplits", "NumberOfLevelOfDetailCollapses", "NumberOfFloatRefusedVertices",

@@ -600,6 +600,9 @@ py::dict model_report(const gdm::DeformResult& r, double seconds) {
   d["lod_splits"] = r.lod_splits;
   d["lod_collapses"] = r.lod_collapses;
   d["float_refused"] = r.float_refused;
+  d["gap_closed_voxels"] = r.gap_closed_voxels;
+  d["gap_reachable_voxels"] = r.gap_reachable_voxels;
+  d["bridge_vertices"] = r.bridge_vertices;
   d["seconds"] = seconds;
   return d;
 }

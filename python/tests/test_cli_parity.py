@@ -1,12 +1,13 @@
 """The module and the gdm command run one pipeline: the same mesh, bit for bit."""
 import json
+import re
 import math
 
 import numpy as np
 import pytest
 
 import gdm
-from conftest import PHANTOM, TOOTH, need, parse_obj, read_metaimage
+from conftest import SOURCE, PHANTOM, TOOTH, need, parse_obj, read_metaimage
 
 
 def same_mesh(result, obj_path):
@@ -76,5 +77,7 @@ def test_tooth_pulp_from_a_numpy_array(cli, tmp_path):
               tmp_path / "cli.obj")
     report = json.loads((tmp_path / "cli.json").read_text())
     assert by_point.report["mesh"] == report["mesh"]
-    assert by_point.report["mesh"]["faces"] == 2520  # the README's figure at the default level of detail
+    # the README's figure at the default level of detail (its tooth pulp table)
+    table_row = re.search(r"^\| defaults \(`--lod 10`\) \| (\d+) \|", (SOURCE / "README.md").read_text(), re.M)
+    assert table_row and by_point.report["mesh"]["faces"] == int(table_row.group(1))
     assert by_point.report["mesh"]["closed"] and by_point.report["mesh"]["genus"] == 0

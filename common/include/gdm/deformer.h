@@ -38,6 +38,9 @@ struct DeformOptions {
                                      // rolls from the seed (passage.h): openings narrower than G are
                                      // bridged, channels wider are followed; 0 (or up to two voxels) =
                                      // no gate, every channel two voxels wide is open
+  bool refine_channels = true;       // once the last stage converged, refine locally where faces are too
+                                     // large to enter a channel the image shows (so the level of detail
+                                     // sets face sizes, the gap where the model goes)
   int max_cycles = 2000;             // hard limit on deformation cycles, all stages together
   double convergence_tolerance = 0.5;  // a vertex counts as moving beyond this, voxels
   int convergence_window = 5;        // converged when nothing moved for this many cycles
@@ -105,6 +108,11 @@ struct DeformResult {
   std::size_t bridge_vertices = 0;       // vertices of the caps over bridged openings
   std::size_t float_refused = 0;  // vertices float_exact_output could not move safely (0 in practice)
 };
+
+// What the gap gate did, for logs: "gap: 1,234 free voxels beyond openings or
+// channels narrower than the gap closed (12,345 reachable); caps over the
+// bridged openings: 60 vertices". Empty when no gate was built.
+std::string gap_summary(const DeformResult& result);
 
 // Checks the options against the volume; throws InvalidOption or InvalidVolume.
 void validate(const DeformOptions& options, const Volume& volume);
