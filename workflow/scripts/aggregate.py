@@ -20,7 +20,8 @@ import sys
 COLUMNS = [
     "scan", "group", "status", "exit_code", "message", "volume_mm3", "volume_ml", "area_mm2",
     "vertices", "faces", "cycles", "stop_reason", "valid", "closed", "manifold", "genus", "components",
-    "self_intersections", "threshold", "seed_source", "gdm_seconds", "wall_seconds", "threads", "input",
+    "self_intersections", "threshold", "seed_source", "gdm_seconds", "wall_seconds", "render_seconds",
+    "job_seconds", "threads", "input",
     "arguments", "mesh", "report", "picture", "picture_message", "gdm_version", "host",
 ]
 
@@ -32,8 +33,10 @@ def row_of(folder):
             s = json.load(f)
     except (OSError, ValueError) as e:
         return {"scan": name, "status": "failed", "exit_code": "", "message": "no status: %s" % e}
-    row = {k: s.get(k) for k in ("scan", "group", "status", "exit_code", "message", "wall_seconds", "threads",
-                                 "input", "picture_message", "gdm_version", "host")}
+    row = {k: s.get(k) for k in ("scan", "group", "status", "exit_code", "message", "wall_seconds",
+                                 "render_seconds", "job_seconds", "threads",
+                                 "input", "picture_message", "picture_colour", "gdm_version",
+                                 "host")}
     row["arguments"] = " ".join(s.get("arguments") or [])
     for key in ("mesh", "report", "picture"):
         row[key] = os.path.join(folder, s[key]) if s.get(key) else ""
@@ -156,17 +159,20 @@ def write_html(path, rows, csv_path, plot_path):
                                                        e(r.get("message") or ""), e(r.get("input") or "")))
         out.append("</table>")
     out.append("<h2>Every scan</h2><table><tr><th>scan</th><th>group</th><th>status</th><th>volume mm³</th>"
-               "<th>area mm²</th><th>faces</th><th>cycles</th><th>valid</th><th>gdm s</th><th>wall s</th></tr>")
+               "<th>area mm²</th><th>faces</th><th>cycles</th><th>valid</th><th>gdm s</th><th>job s</th></tr>")
     for r in rows:
         out.append('<tr class="%s"><td class="l">%s</td><td class="l">%s</td><td class="l">%s</td>' % (
             "ok" if r.get("status") == "ok" else "failed", e(r["scan"]), e(fmt(r.get("group"))),
             e(r.get("status") or "")) + "".join(
             "<td>%s</td>" % e(fmt(r.get(k))) for k in ("volume_mm3", "area_mm2", "faces", "cycles", "valid")) +
-            "<td>%s</td><td>%s</td></tr>" % (e(fmt(r.get("gdm_seconds"), 2)), e(fmt(r.get("wall_seconds"), 2))))
+            "<td>%s</td><td>%s</td></tr>" % (e(fmt(r.get("gdm_seconds"), 2)), e(fmt(r.get("job_seconds"), 2))))
     out.append("</table>")
     out.append('<h2>Volumes</h2><img src="%s" alt="volume per scan">' % rel(plot_path))
-    out.append("<h2>Pictures</h2><p>Coloured by vertex generation (the deformation cycle that created "
-               "each vertex).</p><div class=\"pics\">")
+    meaning = {"generation": "vertex generation (the deformation cycle that created each vertex)",
+               "curvature": "mean curvature", "height": "height (z)"}
+    colours = sorted({r.get("picture_colour") or "generation" for r in ok})
+    out.append("<h2>Pictures</h2><p>Coloured by %s.</p><div class=\"pics\">" % e(
+        ", ".join(meaning.get(c, c) for c in colours) or "-"))
     for r in ok:
         if r.get("picture"):
             out.append('<figure><img src="%s" width="320" alt="%s"><figcaption>%s: %s faces, %s mm³</figcaption>'

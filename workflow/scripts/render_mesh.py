@@ -3,9 +3,10 @@
 
     render_mesh.py MESH PICTURE.png [--title TEXT] [--size 480] [--display auto|xvfb|display]
 
-The surface is coloured by vertex generation (the deformation cycle that
-created each vertex: the .ply's `generation` property, the .vtk's point data),
-else by height. Debian's VTK 9.1 (python3-vtk9) renders through X only (no
+--colour generation (default): by vertex generation, the deformation cycle
+that created each vertex (the .ply's `generation` property, the .vtk's point
+data; files without it are coloured by height); curvature: by mean
+curvature; height: by z. Debian's VTK 9.1 (python3-vtk9) renders through X only (no
 OSMesa or EGL window in its build), so without a usable $DISPLAY (or with
 --display xvfb) this script starts its own Xvfb server for the picture:
 `Xvfb -displayfd` picks a free display itself, so parallel jobs do not race
@@ -154,8 +155,9 @@ def polydata(path):
     return poly, None
 
 
-def render(mesh, picture, title, size):
+def render(mesh, picture, title, size, colour):
     import vtk
+    from vtk.util import numpy_support as ns
     poly, scalars = polydata(mesh)
     if poly.GetNumberOfPolys() == 0:
         raise ValueError("%s: no faces" % mesh)
@@ -165,7 +167,19 @@ def render(mesh, picture, title, size):
     normals.ConsistencyOn()
     normals.Update()
     surface = normals.GetOutput()
-    if scalars is None:  # colour by height (z, mm)
+    if colour == "generation" and scalars is None:
+        colour = "height"  # no generation in this file (.stl, .obj, .off)
+    if colour == "curvature":
+        curv = vtk.vtkCurvatures()
+        curv.SetCurvatureTypeToMean()
+        curv.SetInputData(surface)
+        curv.Update()
+        surface = curv.GetOutput()
+        values = ns.vtk_to_numpy(surface.GetPointData().GetArray("Mean_Curvature"))
+        lo, hi = (float(v) for v in np.percentile(values, [5, 95]))
+        surface.GetPointData().SetActiveScalars("Mean_Curvature")
+        label = "curvature 1/mm"
+    elif colour == "height":
         elev = vtk.vtkElevationFilter()
         b = surface.GetBounds()
         elev.SetLowPoint(0, 0, b[4])
@@ -179,7 +193,7 @@ def render(mesh, picture, title, size):
     else:
         surface.GetPointData().SetActiveScalars(scalars)
         lo, hi = surface.GetPointData().GetArray(scalars).GetRange()
-        label = "generation (cycle)"
+        label = "generation"
     if hi <= lo:
         hi = lo + 1
     lut = vtk.vtkLookupTable()
@@ -194,6 +208,7 @@ def render(mesh, picture, title, size):
     mapper.SetScalarRange(lo, hi)
     mapper.SetScalarModeToUsePointData()
     mapper.ScalarVisibilityOn()
+    mapper.InterpolateScalarsBeforeMappingOn()
     actor = vtk.vtkActor()
     actor.SetMapper(mapper)
     actor.GetProperty().SetInterpolationToGouraud()
@@ -210,9 +225,9 @@ def render(mesh, picture, title, size):
     bar.SetTitle(label)
     bar.SetNumberOfLabels(3)
     bar.UnconstrainedFontSizeOn()
-    bar.SetWidth(0.1)
+    bar.SetWidth(0.17)
     bar.SetHeight(0.45)
-    bar.SetPosition(0.87, 0.08)
+    bar.SetPosition(0.80, 0.08)
     for tp in (bar.GetTitleTextProperty(), bar.GetLabelTextProperty()):
         tp.SetColor(0.1, 0.1, 0.1)
         tp.SetFontSize(11)
@@ -269,10 +284,11 @@ def main():
     ap.add_argument("--title", default="")
     ap.add_argument("--size", type=int, default=480)
     ap.add_argument("--display", default="auto", choices=("auto", "xvfb", "display"))
+    ap.add_argument("--colour", default="generation", choices=("generation", "curvature", "height"))
     ap.add_argument("--in-xvfb", action="store_true", help=argparse.SUPPRESS)
     a = ap.parse_args()
     if a.in_xvfb or a.display == "display" or (a.display == "auto" and display_usable()):
-        render(a.mesh, a.picture, a.title, a.size)
+        render(a.mesh, a.picture, a.title, a.size, a.colour)
         return 0
     # Our own X server: Xvfb writes the display number it took to a pipe.
     read_fd, write_fd = os.pipe()
@@ -287,7 +303,7 @@ def main():
             raise RuntimeError("Xvfb did not start: %s" % xvfb.stderr.read().decode(errors="replace")[-300:])
         env = dict(os.environ, DISPLAY=":" + number)
         return subprocess.run([sys.executable, os.path.abspath(__file__), a.mesh, a.picture, "--title", a.title,
-                               "--size", str(a.size), "--in-xvfb"], env=env).returncode
+                               "--size", str(a.size), "--colour", a.colour, "--in-xvfb"], env=env).returncode
     finally:
         xvfb.terminate()
         try:

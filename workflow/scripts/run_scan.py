@@ -66,7 +66,7 @@ def main():
         "host": socket.gethostname(), "threads": a.threads,
         "started": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
     }
-    start = time.monotonic()
+    job_start = start = time.monotonic()
     try:
         run = subprocess.run(command, capture_output=True, text=True, errors="replace",
                              timeout=a.time_limit or None)
@@ -92,6 +92,7 @@ def main():
     status["report"] = "report.json" if os.path.exists(report) else None
 
     status["picture"] = None
+    status["picture_colour"] = params.get("picture_colour", "generation")
     status["picture_message"] = "no mesh" if not ok else ""
     if ok and a.render != "off":
         title = params["scan"]
@@ -103,8 +104,10 @@ def main():
             pass
         picture = os.path.join(a.out, "picture.png")
         render = [sys.executable, os.path.join(HERE, "render_mesh.py"), mesh, picture,
-                  "--title", title, "--display", a.render]
+                  "--title", title, "--display", a.render, "--colour", params.get("picture_colour", "generation")]
+        render_start = time.monotonic()
         r = subprocess.run(render, capture_output=True, text=True, errors="replace", timeout=600)
+        status["render_seconds"] = round(time.monotonic() - render_start, 3)
         if r.returncode == 0 and os.path.exists(picture):
             status["picture"] = "picture.png"
         else:
@@ -113,6 +116,7 @@ def main():
     elif ok:
         status["picture_message"] = "rendering off"
 
+    status["job_seconds"] = round(time.monotonic() - job_start, 3)
     tmp = os.path.join(a.out, "status.json.tmp")
     with open(tmp, "w") as f:
         json.dump(status, f, indent=1)
