@@ -73,6 +73,19 @@ def find_gdm(configured, workflow_dir):
         "(scripts/build.sh)" % ", ".join(candidates))
 
 
+class Flags(dict):
+    """{flag: takes a value}, with `primary`: {flag or alias: the option's own name}."""
+
+    def __init__(self):
+        super().__init__()
+        self.primary = {}
+
+
+def option_name(key):
+    """A config key as a gdm flag name: `lod_face_area`, `--lod-face-area` -> `lod-face-area`."""
+    return str(key).lstrip("-").replace("_", "-")
+
+
 def gdm_flags(gdm):
     """{flag name: takes a value} from `gdm --help`, aliases included, and gdm's version."""
     text = subprocess.run([gdm, "--help"], capture_output=True, text=True, check=True).stdout
@@ -88,12 +101,14 @@ def gdm_flags(gdm):
             blocks[-1][2] += " " + line.strip()
         elif not line.strip() or not line.startswith(" "):
             blocks.append([None, False, ""])
-    flags = {}
+    flags = Flags()
     for name, takes_value, block in blocks:
         if name:
             flags[name] = takes_value
+            flags.primary[name] = name
             for alias in re.findall(r"also (?:-[a-z], )?--([a-z0-9-]+)", block):
                 flags.setdefault(alias, takes_value)
+                flags.primary.setdefault(alias, name)
     version = subprocess.run([gdm, "--version"], capture_output=True, text=True).stdout.strip()
     return flags, version
 
@@ -112,13 +127,16 @@ def _safe(name):
     return re.sub(r"[^A-Za-z0-9._-]+", "_", str(name)).strip("._") or "scan"
 
 
-def _merge(*layers):
-    """Later layers win; `options` mappings are merged key by key."""
+def _merge(layers, primary):
+    """Later layers win; `options` mappings are merged key by key, an option's
+    aliases and spellings (lod, lod_face_area, lod-face-area) as one key."""
     out = {"options": {}}
     for layer in layers:
         for key, value in (layer or {}).items():
             if key == "options":
-                out["options"].update(value or {})
+                for k, v in (value or {}).items():
+                    name = option_name(k)
+                    out["options"][primary.get(name, name)] = v
             else:
                 out[key] = value
     return out
@@ -134,8 +152,10 @@ def _check_keys(where, settings):
         raise ConfigError("%s: `options` must be a mapping of gdm option name to value" % where)
 
 
-def expand_scans(config, base_dir):
-    """[(scan id, absolute input path, merged settings)] in the config's order."""
+def expand_scans(config, base_dir, flags=None):
+    """[(scan id, absolute input path, merged settings)] in the config's order
+    (`flags`, of gdm_flags: options merged by their gdm name, aliases included)."""
+    primary = getattr(flags, "primary", {})
     defaults = config.get("defaults") or {}
     groups = config.get("groups") or {}
     _check_keys("defaults", defaults)
@@ -148,7 +168,7 @@ def expand_scans(config, base_dir):
         group = entry.get("group")
         if group is not None and group not in groups:
             raise ConfigError("%s: group %r is not in `groups:` (%s)" % (where, group, ", ".join(groups) or "none"))
-        return _merge(defaults, groups.get(group) if group is not None else None, entry)
+        return _merge([defaults, groups.get(group) if group is not None else None, entry], primary)
 
     def absolute(path):
         path = os.path.expanduser(str(path))
@@ -205,9 +225,15 @@ def gdm_arguments(name, settings, flags):
     for key, value in (settings.get("options") or {}).items():
         if value is None:
             continue
-        pairs.append(("options." + str(key), str(key).lstrip("-").replace("_", "-"), value))
+        pairs.append(("options." + str(key), option_name(key), value))
     args = []
+    given = {}
+    primary = getattr(flags, "primary", {})
     for where, flag, value in pairs:
+        if primary.get(flag, flag) in given:
+            raise ConfigError("scan %s: %s and %s both set --%s" % (name, given[primary.get(flag, flag)], where,
+                                                                   primary.get(flag, flag)))
+        given[primary.get(flag, flag)] = where
         if flag in RESERVED_FLAGS:
             raise ConfigError("scan %s: %s: the workflow sets --%s itself" % (name, where, flag))
         if flag not in flags:

@@ -351,3 +351,35 @@ def test_slurm_profile_submits_every_scan_through_sbatch(work, tmp_path):
     for line in submissions:
         assert re.search(r"-A lab -p short -t \d+ --mem \d+ --cpus-per-task=1 -D ", line), line
     assert rows(work)["phantom_mha"]["status"] == "ok"
+
+
+def test_example_configs_map_onto_this_gdm():
+    """workflow/config/example.yaml and the README's example: every setting is a flag of this gdm."""
+    import yaml
+    sys.path.insert(0, os.path.join(SOURCE, "workflow", "scripts"))
+    import cohort
+    flags, _ = cohort.gdm_flags(GDM)
+    with open(os.path.join(SOURCE, "README.md")) as f:
+        readme = f.read()
+    section = readme[readme.index("## Cohorts (Snakemake)"):]
+    section = section[:section.index("\n## ", 3)]
+    blocks = re.findall(r"```yaml\n(.*?)```", section, re.S)
+    assert len(blocks) == 1
+    with open(os.path.join(SOURCE, "workflow", "config", "example.yaml")) as f:
+        configs = [yaml.safe_load(f), yaml.safe_load(blocks[0])]
+    for config in configs:
+        scans = cohort.expand_scans(config, SOURCE, flags)
+        assert scans
+        for name, path, settings in scans:
+            arguments = cohort.gdm_arguments(name, settings, flags)
+            assert arguments and all(a.startswith("--") for a in arguments[::2]), arguments
+    tooth = dict((n, cohort.gdm_arguments(n, s, flags)) for n, _, s in cohort.expand_scans(configs[0], SOURCE, flags))
+    # the group's `lod` (an alias) replaces the defaults' `lod-face-area`
+    assert tooth["tooth_pulp"] == ["--threshold", "115", "--polarity", "dark", "--seed-index", "50,47,95",
+                                   "--max-faces", "500000", "--lod-face-area", "4"]
+    with pytest.raises(cohort.ConfigError, match="no option --no-such-flag"):
+        cohort.gdm_arguments("x", {"options": {"no_such_flag": 1}}, flags)
+    with pytest.raises(cohort.ConfigError, match="both set --max-faces"):
+        cohort.gdm_arguments("x", {"face_budget": 10, "options": {"max_faces": 20}}, flags)
+    with pytest.raises(cohort.ConfigError, match="sets --output itself"):
+        cohort.gdm_arguments("x", {"options": {"output": "a.ply"}}, flags)
