@@ -17,6 +17,7 @@ import argparse
 import os
 import subprocess
 import sys
+import tempfile
 
 import numpy as np
 
@@ -285,25 +286,27 @@ def main():
     ap.add_argument("--size", type=int, default=480)
     ap.add_argument("--display", default="auto", choices=("auto", "xvfb", "display"))
     ap.add_argument("--colour", default="generation", choices=("generation", "curvature", "height"))
-    ap.add_argument("--in-xvfb", action="store_true", help=argparse.SUPPRESS)
     a = ap.parse_args()
-    if a.in_xvfb or a.display == "display" or (a.display == "auto" and display_usable()):
+    if a.display == "display" or (a.display == "auto" and display_usable()):
         render(a.mesh, a.picture, a.title, a.size, a.colour)
         return 0
     # Our own X server: Xvfb writes the display number it took to a pipe.
     read_fd, write_fd = os.pipe()
+    errors = tempfile.TemporaryFile()  # a file, not a pipe: Xvfb never blocks on it
     xvfb = subprocess.Popen(["Xvfb", "-displayfd", str(write_fd), "-screen", "0", "1024x768x24",
                              "-nolisten", "tcp", "-noreset"], pass_fds=(write_fd,),
-                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+                            stdout=subprocess.DEVNULL, stderr=errors)
     os.close(write_fd)
     try:
         with os.fdopen(read_fd) as f:
             number = f.readline().strip()
         if not number:
-            raise RuntimeError("Xvfb did not start: %s" % xvfb.stderr.read().decode(errors="replace")[-300:])
-        env = dict(os.environ, DISPLAY=":" + number)
-        return subprocess.run([sys.executable, os.path.abspath(__file__), a.mesh, a.picture, "--title", a.title,
-                               "--size", str(a.size), "--colour", a.colour, "--in-xvfb"], env=env).returncode
+            xvfb.wait(timeout=10)
+            errors.seek(0)
+            raise RuntimeError("Xvfb did not start: %s" % errors.read().decode(errors="replace")[-300:])
+        os.environ["DISPLAY"] = ":" + number  # read when VTK opens its window
+        render(a.mesh, a.picture, a.title, a.size, a.colour)
+        return 0
     finally:
         xvfb.terminate()
         try:
