@@ -293,9 +293,16 @@ def main():
     # Our own X server: Xvfb writes the display number it took to a pipe.
     read_fd, write_fd = os.pipe()
     errors = tempfile.TemporaryFile()  # a file, not a pipe: Xvfb never blocks on it
-    xvfb = subprocess.Popen(["Xvfb", "-displayfd", str(write_fd), "-screen", "0", "1024x768x24",
-                             "-nolisten", "tcp", "-noreset"], pass_fds=(write_fd,),
-                            stdout=subprocess.DEVNULL, stderr=errors)
+    try:
+        xvfb = subprocess.Popen(["Xvfb", "-displayfd", str(write_fd), "-screen", "0", "1024x768x24",
+                                 "-nolisten", "tcp", "-noreset"], pass_fds=(write_fd,),
+                                stdout=subprocess.DEVNULL, stderr=errors)
+    except FileNotFoundError:
+        print("render_mesh: no usable $DISPLAY and no Xvfb to render in (Debian: apt-get install xvfb)",
+              file=sys.stderr)
+        os.close(read_fd)
+        os.close(write_fd)
+        return 3
     os.close(write_fd)
     try:
         with os.fdopen(read_fd) as f:
