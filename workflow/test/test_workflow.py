@@ -251,9 +251,9 @@ def test_first_run_makes_meshes_pictures_table_and_summary(work):
 
     print("first run, --cores 2: %.1f s for %d scans" % (seconds, len(table)))
     for name, r in table.items():
-        print("  %-14s %-6s exit %-2s gdm %6s s, scan job %6s s, %6s faces, %10s mm^3" % (
-            name, r["status"], r["exit_code"], r["gdm_seconds"] or "-", r["wall_seconds"], r["faces"] or "-",
-            r["volume_mm3"] or "-"))
+        print("  %-14s %-6s exit %-2s gdm %6s s, picture %6s s, scan job %6s s, %6s faces, %10s mm^3" % (
+            name, r["status"], r["exit_code"], r["gdm_seconds"] or "-", r["render_seconds"] or "-",
+            r["job_seconds"], r["faces"] or "-", r["volume_mm3"] or "-"))
 
 
 def test_second_run_does_nothing(work):
