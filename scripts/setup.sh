@@ -14,6 +14,7 @@ packages=(
   libinsighttoolkit5-dev libfftw3-dev libgdcm-tools libvtk9-dev libcgal-dev
   meshlab qtbase5-dev libqt5opengl5-dev libglew-dev xvfb xauth dpkg-dev
   python3 python3-dev pybind11-dev python3-numpy python3-pytest python3-nibabel python3-meshio
+  snakemake python3-yaml python3-vtk9 python3-matplotlib python3-pydicom
 )
 
 sudo_cmd=()

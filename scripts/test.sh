@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Sets up the machine, builds everything and runs the whole test suite:
-# the Release build's tests (core, ITK module, MeshLab plugin), the Python
+# the Release build's tests (core, ITK module, MeshLab plugin, the Snakemake
+# cohort workflow: ctest gdm_workflow, skipped without snakemake), the Python
 # module's tests, the install (scripts/test-install.sh: a temporary prefix,
 # the downstream projects of test/downstream, the plugin loaded from the
 # prefix, the .deb), the ITK module again as an ITK external module, then the
