@@ -185,6 +185,52 @@ TEST(Gap, channels_two_to_four_voxels_wide_are_followed_to_their_ends_at_the_def
   }
 }
 
+// The benchmark study's "hole in the wall" cases: a dark cavity (a bent
+// tube, a branching shape) in a bright wall 4 voxels thick with a hole of
+// radius 2 voxels. With a gap above the hole (6 voxels) the model stays in
+// the cavity and fits it; without, it leaks.
+TEST(Gap, tube_and_branching_with_a_hole_in_the_wall_do_not_leak_with_a_gap_above_it) {
+  ph::Grid grid;
+  const Vec3 c = grid.center();
+  struct Shape {
+    const char* name;
+    ph::Sdf cavity;
+    Vec3 seed;
+  };
+  const Shape shapes[] = {
+      {"bent tube", ph::bent_tube(c, 18.0, 6.0, 1.5 * M_PI), c + Vec3(18.0, 0.5, 0.0)},
+      {"branching shape",
+       ph::unite({ph::capsule(c + Vec3(0, 0, 18), c, 6.0), ph::capsule(c, c + Vec3(14, 0, -18), 4.5),
+                  ph::capsule(c, c + Vec3(-12, 8, -18), 4.5), ph::capsule(c, c + Vec3(-4, -14, -16), 4.0)}),
+       c + Vec3(0, 0, 10)},
+  };
+  for (const Shape& shape : shapes) {
+    Vec3 exit = shape.seed;
+    while (shape.cavity(exit) < 0.0) exit.x() += 0.25;
+    const ph::Sdf cavity = shape.cavity;
+    const ph::Sdf wall = ph::difference(ph::difference([cavity](const Vec3& p) { return cavity(p) - 4.0; }, cavity),
+                                        ph::capsule(exit - Vec3(2, 0, 0), exit + Vec3(8, 0, 0), 2.0));
+    const Volume volume = ph::with_gaussian_noise(ph::voxelize(grid, wall, kLow, kHigh - kLow), 0.05 * (kHigh - kLow), 41u);
+    DeformOptions o;
+    o.threshold = kThreshold;
+    o.polarity = Polarity::object_darker;
+    o.stop_at_border = true;
+    Mesh leaking = make_geodesic_sphere(shape.seed, 2.0, 1);
+    EXPECT_EQ(deform(leaking, volume, o).reason, StopReason::border) << shape.name << ": no leak without a gap";
+    o.gap = 6.0;
+    Mesh mesh = make_geodesic_sphere(shape.seed, 2.0, 1);
+    const DeformResult r = deform(mesh, volume, o);
+    EXPECT_EQ(r.reason, StopReason::converged) << shape.name;
+    EXPECT_GT(r.gap_closed_voxels, 0u) << shape.name;
+    test::expect_valid_closed_surface(mesh);
+    // Away from the hole, the model lies on the cavity; over it, within the wall.
+    const ph::DistanceStats d = ph::vertex_distances(mesh, cavity, 1.0, [&](const Vec3& p) { return (p - exit).norm() > 4.0; });
+    const ph::DistanceStats cap = ph::vertex_distances(mesh, cavity, 1.0, [&](const Vec3& p) { return (p - exit).norm() <= 4.0; });
+    EXPECT_LE(d.mean, 0.15) << shape.name << " (p95 " << d.p95 << ")";
+    EXPECT_LE(cap.max, 1.5) << shape.name << ": the cap over the hole strays into it";
+  }
+}
+
 // The real tooth's pulp at the default settings: its canals are followed.
 TEST(Gap, tooth_pulp_at_the_defaults_follows_the_canals) {
   Volume tooth;

@@ -126,6 +126,7 @@ class Deformer {
   bool held_by_gate(Mesh::VertexHandle v) const;
   bool object_ahead(Mesh::FaceHandle f) const;
   bool at_wall(Mesh::VertexHandle v) const;
+  bool in_the_open(const Vec3& p) const;
   std::size_t refine_where_blocked(int cycle);
   std::size_t relax_bridges();
 
@@ -194,7 +195,8 @@ void Deformer::grow_per_vertex_state() {
   anchor_.resize(n);
   stage_start_.resize(n);
   last_change_.resize(n, 0);
-  local_area_.resize(n, o_.lod_face_area * voxel_ * voxel_);
+  const double coarse = o_.lod_face_area * voxel_ * voxel_;
+  local_area_.resize(n, coarse);
   for (std::size_t i = old; i < n; ++i) {
     // A vertex made by a split (at the midpoint of two of its neighbours) is
     // as fine as the coarser end of the split edge: fineness does not spread.
@@ -207,6 +209,9 @@ void Deformer::grow_per_vertex_state() {
             (0.5 * (to_eigen(mesh_.point(ring[x])) + to_eigen(mesh_.point(ring[y]))) - pm).squaredNorm() <
                 1e-12 * voxel_ * voxel_)
           local_area_[i] = std::max(local_area_[ring[x].idx()], local_area_[ring[y].idx()]);
+    // Out of the channel (free room half an edge of the level of detail away
+    // on every axis), the faces grow back to the level of detail.
+    if (local_area_[i] < coarse && in_the_open(pm)) local_area_[i] = coarse;
     anchor_[i] = to_eigen(mesh_.point(Mesh::VertexHandle(static_cast<int>(i))));
     stage_start_[i] = anchor_[i];
     last_change_[i] = report_.cycle;
@@ -411,6 +416,19 @@ bool Deformer::object_ahead(Mesh::FaceHandle f) const {
         ++free;
     }
   return free > 0 && 2 * free <= points;
+}
+
+// Free room half an edge of the level of detail away along every axis: no
+// channel here, faces of the level of detail fit.
+bool Deformer::in_the_open(const Vec3& p) const {
+  const double r = 0.5 * lod_edge_length(o_, voxel_);
+  for (int axis = 0; axis < 3; ++axis)
+    for (const double sign : {-1.0, 1.0}) {
+      Vec3 q = p;
+      q[axis] += sign * r;
+      if (cost_.image.is_blocked(q)) return false;
+    }
+  return true;
 }
 
 // A vertex that stands against a wall: the blocked region starts within a
