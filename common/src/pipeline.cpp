@@ -326,6 +326,15 @@ PipelineResult run_model(const PreparedModel& p, const PipelineObserver& observe
   } else if (r.deform.reason != StopReason::cancelled) {
     r.report = measure(r.mesh);
     r.failure = failure_of(r.deform, r.report, p.deform, p.allow_border);
+    if (r.failure.empty()) {
+      const Volume& volume = *p.volume;
+      const double t = p.deform.threshold;
+      const bool brighter = p.deform.polarity == Polarity::object_brighter;
+      r.contacts = find_self_contacts(r.mesh, volume.voxel_size(), [&](const Vec3& x) {
+        const double v = volume.sample(x);
+        return brighter ? v > t : v < t;
+      });
+    }
   } else {
     r.failure = "cancelled";
   }

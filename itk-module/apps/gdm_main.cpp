@@ -112,6 +112,7 @@ void record_model(const gdm::PipelineResult& r, RunRecord& record) {
   record.model = r.deform;
   record.model_seconds = r.seconds;
   record.mesh = r.report;
+  record.contacts = r.contacts;
   record_extent(r.mesh, record);
 }
 

@@ -64,6 +64,7 @@ std::string summary_text(const RunRecord& r) {
   part(r.model.float_refused, "vertices not float-exact");
   if (!finish.empty()) s << "  after convergence: " << finish << "\n";
   if (r.model.gap_closed_voxels > 0) s << "  " << gdm::gap_summary(r.model) << "\n";
+  for (const std::string& line : gdm::describe_contacts(r.contacts)) s << "  " << line << "\n";
   s << "  closed " << (m.closed ? "yes" : "NO") << ", manifold " << (m.two_manifold ? "yes" : "NO") << ", genus "
     << m.genus << ", components " << m.components << ", self-intersections " << m.self_intersections << "\n"
     << "  volume " << fixed(m.volume, 1) << " mm^3 = " << fixed(m.volume / 1000.0, 3) << " ml, area "
@@ -137,6 +138,24 @@ std::string report_json(const RunRecord& r, const Options& options) {
       .add("bounds_max_mm", json_array(r.high))
       .add("max_generation", json_number(r.max_generation));
 
+  // Where the model meets itself (gdm/self_contact.h), largest first.
+  std::string regions = "[";
+  for (std::size_t i = 0; i < r.contacts.regions.size(); ++i) {
+    const gdm::ContactRegion& c = r.contacts.regions[i];
+    JsonObject region;
+    region.add("centre_mm", json_array(std::array<double, 3>{c.centre.x(), c.centre.y(), c.centre.z()}))
+        .add("area_mm2", json_number(c.area))
+        .add("faces", json_number(c.faces))
+        .add("across", json_string(c.across_object ? "object" : "background"));
+    regions += (i ? ", " : "") + region.str(0);
+  }
+  regions += "]";
+  JsonObject contacts;
+  contacts.add("regions", json_number(r.contacts.regions.size()))
+      .add("faces", json_number(r.contacts.faces))
+      .add("area_mm2", json_number(r.contacts.area))
+      .add("list", regions);
+
   JsonObject root;
   root.add("program", json_string("gdm"))
       .add("version", json_string(GDM_VERSION))
@@ -148,6 +167,7 @@ std::string report_json(const RunRecord& r, const Options& options) {
       .add("seed", seed.str())
       .add("model", model.str())
       .add("mesh", mesh.str())
+      .add("contacts", contacts.str())
       .add("total_seconds", json_number(r.total_seconds))
       .add("parameters", parameters_json(options, 2));
   return root.str() + "\n";

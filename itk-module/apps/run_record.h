@@ -9,6 +9,7 @@
 
 #include "gdm/deformer.h"
 #include "gdm/mesh_checks.h"
+#include "gdm/self_contact.h"
 
 namespace gdm_cli {
 
@@ -39,6 +40,7 @@ struct RunRecord {
   gdm::DeformResult model;          // how the model ran (cycles, stop reason, counts)
   double model_seconds = 0.0;       // wall time of the model and its checks
   gdm::MeshReport mesh;             // the result's checks and measures
+  gdm::ContactReport contacts;      // where the model meets itself (closer than a voxel)
   std::array<double, 3> low{0, 0, 0}, high{0, 0, 0};  // bounding box, mm
   int max_generation = 0;           // the youngest vertex's generation
   std::string output;               // mesh file written ("" when none)

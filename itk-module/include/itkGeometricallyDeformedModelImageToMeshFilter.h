@@ -396,6 +396,12 @@ public:
    * GapSize; 0 without a gate) and vertices of the caps over bridged openings. */
   itkGetConstMacro(NumberOfGapClosedVoxels, SizeValueType);
   itkGetConstMacro(NumberOfBridgeVertices, SizeValueType);
+  /** Where the model meets itself (two parts of the surface closer than a
+   * voxel, facing each other): regions and their area (physical units^2).
+   * A region across the object means the model grew around a cavity or a
+   * handle from two sides and the surface there is not the object's. */
+  itkGetConstMacro(NumberOfContactRegions, SizeValueType);
+  itkGetConstMacro(ContactArea, double);
 
   /** The cycle just done, readable during a ProgressEvent (the core's
    * CycleReport). Cycle is 1-based, 0 before the first cycle of a run; Stage
@@ -501,6 +507,8 @@ private:
   SizeValueType m_NumberOfFloatRefusedVertices{ 0 };
   SizeValueType m_NumberOfGapClosedVoxels{ 0 };
   SizeValueType m_NumberOfBridgeVertices{ 0 };
+  SizeValueType m_NumberOfContactRegions{ 0 };
+  double        m_ContactArea{ 0.0 };
 
   SizeValueType m_CurrentCycle{ 0 };
   SizeValueType m_CurrentStage{ 0 };

@@ -190,6 +190,8 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::GenerateD
   m_NumberOfFloatRefusedVertices = 0;
   m_NumberOfGapClosedVoxels = 0;
   m_NumberOfBridgeVertices = 0;
+  m_NumberOfContactRegions = 0;
+  m_ContactArea = 0.0;
   this->SetCurrentCycleReport(gdm::CycleReport{});
 
   if constexpr (InputImageDimension != 3)
@@ -276,6 +278,8 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::GenerateD
     m_NumberOfFloatRefusedVertices = static_cast<SizeValueType>(result.float_refused);
     m_NumberOfGapClosedVoxels = static_cast<SizeValueType>(result.gap_closed_voxels);
     m_NumberOfBridgeVertices = static_cast<SizeValueType>(result.bridge_vertices);
+    m_NumberOfContactRegions = static_cast<SizeValueType>(pipelineResult.contacts.regions.size());
+    m_ContactArea = pipelineResult.contacts.area;
 
     if (result.reason == gdm::StopReason::cancelled || this->GetAbortGenerateData())
     {
@@ -364,6 +368,8 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::PrintSelf
   os << indent << "NumberOfFloatRefusedVertices: " << m_NumberOfFloatRefusedVertices << std::endl;
   os << indent << "NumberOfGapClosedVoxels: " << m_NumberOfGapClosedVoxels << std::endl;
   os << indent << "NumberOfBridgeVertices: " << m_NumberOfBridgeVertices << std::endl;
+  os << indent << "NumberOfContactRegions: " << m_NumberOfContactRegions << std::endl;
+  os << indent << "ContactArea: " << m_ContactArea << std::endl;
   os << indent << "CurrentCycle: " << m_CurrentCycle << std::endl;
   os << indent << "CurrentStage: " << m_CurrentStage << std::endl;
   os << indent << "CurrentNumberOfVertices: " << m_CurrentNumberOfVertices << std::endl;

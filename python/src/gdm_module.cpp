@@ -30,6 +30,7 @@
 #include "gdm/mesh_checks.h"
 #include "gdm/mesh_io.h"
 #include "gdm/option_catalogue.h"
+#include "gdm/self_contact.h"
 #include "gdm/pipeline.h"
 #include "gdm/shrink_wrap.h"
 #if GDM_PYTHON_IMAGE_IO
@@ -588,6 +589,25 @@ py::dict mesh_report(const gdm::Mesh& mesh, const gdm::MeshReport& r) {
   return d;
 }
 
+// Where the model meets itself (gdm/self_contact.h), as the command's JSON.
+py::dict contacts_report(const gdm::ContactReport& c) {
+  py::dict d;
+  d["regions"] = c.regions.size();
+  d["faces"] = c.faces;
+  d["area_mm2"] = c.area;
+  py::list regions;
+  for (const gdm::ContactRegion& r : c.regions) {
+    py::dict region;
+    region["centre_mm"] = py::make_tuple(r.centre.x(), r.centre.y(), r.centre.z());
+    region["area_mm2"] = r.area;
+    region["faces"] = r.faces;
+    region["across"] = r.across_object ? "object" : "background";
+    regions.append(region);
+  }
+  d["list"] = regions;
+  return d;
+}
+
 py::dict model_report(const gdm::DeformResult& r, double seconds) {
   py::dict d;
   d["stop_reason"] = gdm::to_string(r.reason);
@@ -701,6 +721,7 @@ py::dict extract_surface(py::handle volume, py::handle spacing, py::handle origi
   report["seed"] = s;
   report["model"] = model_report(result.deform, result.seconds);
   report["mesh"] = mesh_report(result.mesh, result.report);
+  report["contacts"] = contacts_report(result.contacts);
   report["parameters"] = parameters(options, seed);
   out["report"] = report;
   out["failure"] = result.failure;

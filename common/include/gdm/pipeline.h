@@ -21,6 +21,7 @@
 #include "gdm/errors.h"
 #include "gdm/mesh_checks.h"
 #include "gdm/option_catalogue.h"
+#include "gdm/self_contact.h"
 #include "gdm/seeding.h"
 #include "gdm/volume_ops.h"
 
@@ -139,6 +140,7 @@ struct PipelineResult {
   DeformResult deform;        // cycles, stop reason, counts
   MeshReport report;          // closed, manifold, genus, self-intersections, volume, ...
   PipelineChoices choices;    // threshold and seed used
+  ContactReport contacts;     // where the model meets itself (closer than a voxel; self_contact.h)
   std::string failure;        // empty when the model is the object; else why not (a leak, the face limit, ...)
   double seconds = 0.0;       // wall time of the model and the checks
 };

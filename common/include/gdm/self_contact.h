@@ -1,0 +1,46 @@
+// Where a model meets itself (issue 15): two parts of the surface that are
+// not neighbours on the mesh face each other closer than a voxel. A model
+// that grew around a cavity or a handle of the object from two sides stops
+// there with two sheets a hair apart: closed, 2-manifold, genus 0 and free of
+// self-intersections, yet not the object's surface. The report says so.
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "gdm/mesh.h"
+
+namespace gdm {
+
+struct ContactRegion {
+  std::size_t faces = 0;       // faces in contact (both sheets)
+  double area = 0.0;           // their area, mm^2
+  Vec3 centre = Vec3::Zero();  // area-weighted centre of those faces, mm
+  bool across_object = true;   // the thin gap between the sheets lies on the object's side
+};
+
+struct ContactReport {
+  std::vector<ContactRegion> regions;  // largest first
+  std::size_t faces = 0;               // faces in contact, all regions
+  double area = 0.0;                   // their area, mm^2
+};
+
+// Faces f and g are in contact when g shares no vertex with f nor with a
+// neighbour of f, their normals point at each other (n_f . n_g < -0.5, g in
+// front of f), and f's centroid lies within `distance` (mm) of g. Regions are
+// the edge-connected groups of faces in contact. `object_side(p)` says
+// whether a point lies on the object's side of the threshold: the gap's
+// midpoints vote for "across the object" (the model grew around something
+// from two sides) or "across the background" (a thin slit of background
+// between two parts of the object); without it every region counts as across
+// the object.
+ContactReport find_self_contacts(const Mesh& mesh, double distance,
+                                 const std::function<bool(const Vec3&)>& object_side = {});
+
+// One log line per region (at most `limit`, the largest), saying what it
+// means; empty when there is no contact.
+std::vector<std::string> describe_contacts(const ContactReport& report, std::size_t limit = 5);
+
+}  // namespace gdm

@@ -1,0 +1,76 @@
+// Where a model meets itself (gdm/self_contact.h, issue 15): a model grown
+// inside a shell around a cavity meets itself across the object on the far
+// side; a ball does not. Phantoms built here, with noise.
+#include <gtest/gtest.h>
+
+#include "gdm/phantoms.h"
+#include "gdm/pipeline.h"
+#include "gdm/self_contact.h"
+
+namespace {
+
+using namespace gdm;
+namespace ph = phantoms;
+
+constexpr double kLow = 50.0, kHigh = 200.0, kThreshold = 125.0;
+
+PipelineOptions grown_from(const Vec3& seed) {
+  PipelineOptions o;
+  o.threshold_otsu = false;
+  o.threshold = kThreshold;
+  o.seed.kind = SeedKind::point;
+  o.seed.point = seed;
+  o.seed.radius = 1.5;
+  return o;
+}
+
+// A bright spherical shell (radii 8 to 14 voxels) around a dark cavity, the
+// model grown from a seed in the shell: the fronts go round the cavity and
+// meet on the far side, two sheets a hair apart across the object.
+TEST(SelfContact, a_shell_grown_from_one_side_meets_itself_across_the_object) {
+  ph::Grid grid;
+  grid.dims = {40, 40, 40};
+  const Vec3 c = grid.center();
+  const Volume shell = ph::with_gaussian_noise(
+      ph::voxelize(grid, ph::difference(ph::sphere(c, 14.0), ph::sphere(c, 8.0)), kLow, kHigh - kLow), 0.05 * (kHigh - kLow), 5u);
+  const PipelineResult r = extract_surface(shell, grown_from(c + Vec3(11.0, 0.0, 0.0)));
+  ASSERT_TRUE(r.failure.empty()) << r.failure;
+  ASSERT_FALSE(r.contacts.regions.empty()) << "the model's two fronts meeting behind the cavity were not seen";
+  const ContactRegion& largest = r.contacts.regions.front();
+  EXPECT_TRUE(largest.across_object);
+  EXPECT_GT(largest.area, 1.0);
+  // The fronts meet on the far side of the cavity from the seed.
+  EXPECT_LT(largest.centre.x(), c.x()) << "contact at x = " << largest.centre.x();
+  const std::vector<std::string> lines = describe_contacts(r.contacts);
+  ASSERT_GE(lines.size(), 2u);
+  EXPECT_NE(lines[1].find("cavity or a handle"), std::string::npos) << lines[1];
+}
+
+TEST(SelfContact, a_ball_does_not_meet_itself) {
+  ph::Grid grid;
+  grid.dims = {40, 40, 40};
+  const Vec3 c = grid.center();
+  const Volume ball = ph::with_gaussian_noise(ph::voxelize(grid, ph::sphere(c, 12.0), kLow, kHigh - kLow), 0.05 * (kHigh - kLow), 6u);
+  const PipelineResult r = extract_surface(ball, grown_from(c));
+  ASSERT_TRUE(r.failure.empty()) << r.failure;
+  EXPECT_TRUE(r.contacts.regions.empty()) << describe_contacts(r.contacts).front();
+  EXPECT_TRUE(describe_contacts(r.contacts).empty());
+}
+
+// The gap's side decides what a region means: the same contacts, told that
+// the gap lies on the background's side, are slits of background.
+TEST(SelfContact, the_side_of_the_gap_names_the_region) {
+  ph::Grid grid;
+  grid.dims = {40, 40, 40};
+  const Vec3 c = grid.center();
+  const Volume shell = ph::voxelize(grid, ph::difference(ph::sphere(c, 14.0), ph::sphere(c, 8.0)), kLow, kHigh - kLow);
+  const PipelineResult r = extract_surface(shell, grown_from(c + Vec3(11.0, 0.0, 0.0)));
+  ASSERT_TRUE(r.failure.empty()) << r.failure;
+  const ContactReport background = find_self_contacts(r.mesh, shell.voxel_size(), [](const Vec3&) { return false; });
+  ASSERT_EQ(background.regions.size(), r.contacts.regions.size());
+  EXPECT_EQ(background.faces, r.contacts.faces);
+  for (const ContactRegion& region : background.regions) EXPECT_FALSE(region.across_object);
+  EXPECT_NE(describe_contacts(background)[1].find("slit of background"), std::string::npos);
+}
+
+}  // namespace
