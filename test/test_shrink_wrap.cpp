@@ -2,9 +2,13 @@
 // holed sphere, a point cloud; its guarantees and its refusals.
 #include <gtest/gtest.h>
 
+#include <iostream>
+
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <limits>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -132,6 +136,155 @@ TEST(ShrinkWrap, bad_options_are_refused) {
   auto broken = input;
   broken[3][1].x() = nan;
   expect_refused(broken, options(0.5, 1.5), "non-finite");
+}
+
+// ------------------------------------------------------------- the cost --
+
+// The process's peak resident memory (VmHWM), bytes; resets the peak first
+// when `reset` (Linux: "5" to /proc/self/clear_refs). -1 when unreadable.
+double peak_resident_bytes(bool reset) {
+  if (reset) {
+    std::ofstream clear("/proc/self/clear_refs");
+    clear << "5";
+    clear.flush();
+    if (!clear) return -1.0;
+  }
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line))
+    if (line.rfind("VmHWM:", 0) == 0) return 1024.0 * std::stod(line.substr(6));
+  return -1.0;
+}
+
+// The grid the wrap built, from its note "distance field: A x B x C cells ...".
+gdm::Index3 built_grid(const gdm::WrapResult& r) {
+  for (const auto& note : r.notes)
+    if (note.rfind("distance field: ", 0) == 0) {
+      std::istringstream in(note.substr(16));
+      gdm::Index3 g{};
+      char x;
+      in >> g[0] >> x >> g[1] >> x >> g[2];
+      return g;
+    }
+  return {0, 0, 0};
+}
+
+// An open box: the five faces of a 20 x 14 x 10 mm box without its top, each
+// split into triangles of about 1 mm (a planar hole of 20 x 14 mm at z = 10).
+std::vector<gdm::Triangle> open_box() {
+  std::vector<gdm::Triangle> out;
+  const auto quad = [&out](const gdm::Vec3& o, const gdm::Vec3& u, const gdm::Vec3& v) {
+    const int nu = static_cast<int>(std::ceil(u.norm())), nv = static_cast<int>(std::ceil(v.norm()));
+    for (int i = 0; i < nu; ++i)
+      for (int j = 0; j < nv; ++j) {
+        const gdm::Vec3 a = o + u * (double(i) / nu) + v * (double(j) / nv);
+        const gdm::Vec3 b = o + u * (double(i + 1) / nu) + v * (double(j) / nv);
+        const gdm::Vec3 c = o + u * (double(i + 1) / nu) + v * (double(j + 1) / nv);
+        const gdm::Vec3 d = o + u * (double(i) / nu) + v * (double(j + 1) / nv);
+        out.push_back({a, b, c});
+        out.push_back({a, c, d});
+      }
+  };
+  const gdm::Vec3 X(20, 0, 0), Y(0, 14, 0), Z(0, 0, 10), O(0, 0, 0);
+  quad(O, Y, X);          // bottom
+  quad(O, X, Z);          // y = 0
+  quad(O + Y, Z, X);      // y = 14
+  quad(O, Z, Y);          // x = 0
+  quad(O + X, Y, Z);      // x = 20
+  return out;
+}
+
+// The estimate against the wrap it predicts, on generated inputs: the grid is
+// exact, the faces and the peak memory within a factor of 2.5 (no timing is
+// asserted: the estimated time is only printed).
+TEST(ShrinkWrapCost, estimate_is_near_the_measured_faces_and_memory) {
+  gdm::Mesh holed = gdm::make_geodesic_sphere(gdm::Vec3(3, -2, 1), 12.0, 4);
+  std::vector<gdm::Triangle> holed_sphere;
+  for (const auto& t : gdm::triangles_of(holed))
+    if ((t[0] + t[1] + t[2]).z() / 3.0 < 1.0 + 9.0) holed_sphere.push_back(t);
+  struct Case {
+    const char* name;
+    std::vector<gdm::Triangle> input;
+    double cell, tolerance;
+  };
+  const std::vector<Case> cases = {{"open box, 0.4 mm cells", open_box(), 0.4, 1.2},
+                                   {"holed sphere, 0.3 mm cells", holed_sphere, 0.3, 0.9}};
+  for (const auto& c : cases) {
+    const gdm::WrapOptions o = options(c.cell, c.tolerance);
+    const gdm::WrapEstimate e = gdm::estimate_wrap(c.input, o);
+    const double before = peak_resident_bytes(true);
+    const gdm::WrapResult r = gdm::shrink_wrap(c.input, o);
+    const double peak = peak_resident_bytes(false);
+    const double faces = static_cast<double>(r.mesh.n_faces());
+    std::cout << c.name << ": estimated " << e.text() << "; built " << faces << " faces, peak " << peak / 1048576.0
+              << " MiB (" << before / 1048576.0 << " MiB before)\n";
+    EXPECT_EQ(built_grid(r), e.grid) << c.name;
+    EXPECT_DOUBLE_EQ(e.cells, double(e.grid[0]) * e.grid[1] * e.grid[2]);
+    EXPECT_GT(e.faces, faces / 2.5) << c.name;
+    EXPECT_LT(e.faces, faces * 2.5) << c.name;
+    EXPECT_GT(e.seconds, 0.0);
+#if defined(__SANITIZE_ADDRESS__)
+    std::cout << "AddressSanitizer build (shadow memory): memory not checked\n";
+    continue;
+#endif
+    if (before < 0.0 || peak < 0.0) {
+      std::cout << "peak memory not measurable here (/proc/self/clear_refs): memory not checked\n";
+      continue;
+    }
+    EXPECT_GT(e.bytes, peak / 2.5) << c.name;
+    EXPECT_LT(e.bytes, peak * 2.5) << c.name;
+  }
+}
+
+// An absurd request (1 um cells around a 12 mm sphere: 1e13 cells) is refused
+// before anything is built, naming the estimate, the limits and a cell size
+// that fits; that cell size does fit; 0 lifts a limit.
+TEST(ShrinkWrapCost, absurd_request_is_refused_before_any_work) {
+  const auto input = sphere_soup(gdm::Vec3(0, 0, 0), 6.0, 2);
+  gdm::WrapOptions o = options(0.001, 0.003);
+  try {
+    gdm::shrink_wrap(input, o);
+    FAIL() << "an absurd wrap was accepted";
+  } catch (const gdm::WrapTooCostly& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("the wrap would take about "), std::string::npos) << m;
+    EXPECT_NE(m.find(" distance grid, about "), std::string::npos) << m;
+    EXPECT_NE(m.find("above the time limit of 180 s and the memory limit of 2 GiB; refused before starting"),
+              std::string::npos) << m;
+    EXPECT_NE(m.find("mm is within the limits"), std::string::npos) << m;
+    EXPECT_EQ(e.option(), "cell_size");
+    EXPECT_GT(e.estimate().cells, 1e12);
+    EXPECT_GT(e.estimate().bytes, 2.0 * 1073741824.0);
+    ASSERT_GT(e.fitting_cell_size(), 0.001);
+    gdm::WrapOptions fits = o;
+    fits.cell_size = e.fitting_cell_size();
+    fits.tolerance = std::max(o.tolerance, fits.cell_size);
+    const gdm::WrapEstimate f = gdm::estimate_wrap(input, fits);
+    EXPECT_LE(f.seconds, o.time_limit);
+    EXPECT_LE(f.bytes, o.memory_limit * 1073741824.0);
+  }
+  // Without limits the same request passes the cost check (and meets the
+  // distance field's own ceiling of 400 million cells, also before any work).
+  o.time_limit = 0.0;
+  o.memory_limit = 0.0;
+  try {
+    gdm::shrink_wrap(input, o);
+    FAIL() << "a grid of 1e13 cells was accepted";
+  } catch (const gdm::WrapTooCostly&) {
+    FAIL() << "refused as too costly without limits";
+  } catch (const gdm::InvalidOption& e) {
+    EXPECT_NE(std::string(e.what()).find("cells; increase the cell size"), std::string::npos) << e.what();
+  }
+}
+
+TEST(ShrinkWrapCost, bad_limits_are_refused) {
+  const auto input = sphere_soup(gdm::Vec3(0, 0, 0), 4.0, 1);
+  gdm::WrapOptions o = options(0.5, 1.5);
+  o.time_limit = -1.0;
+  expect_refused(input, o, "time_limit must be >= 0");
+  o = options(0.5, 1.5);
+  o.memory_limit = std::numeric_limits<double>::quiet_NaN();
+  expect_refused(input, o, "memory_limit must be >= 0");
 }
 
 }  // namespace

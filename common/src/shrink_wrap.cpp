@@ -6,6 +6,7 @@
 #include <memory>
 #include <sstream>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "gdm/cell_hash.h"
 #include "gdm/distance_field.h"
@@ -68,9 +69,175 @@ void validate(const std::vector<Triangle>& input, const WrapOptions& w) {
   // The model's options: the catalogue's ranges (lod_face_area in cell^2 here).
   const DeformOptions model = model_options(w);
   for (const auto& option : deform_option_catalogue()) check_option(option, option.get(model));
+  require(std::isfinite(w.time_limit) && w.time_limit >= 0.0,
+          "time_limit must be >= 0 (s; 0 = no limit), got " + fmt(w.time_limit));
+  require(std::isfinite(w.memory_limit) && w.memory_limit >= 0.0,
+          "memory_limit must be >= 0 (GiB; 0 = no limit), got " + fmt(w.memory_limit));
   require(!input.empty(), "the input is empty: nothing to wrap");
   for (const auto& t : input)
     for (const auto& p : t) require(p.allFinite(), "the input has a non-finite coordinate");
+}
+
+// Where the wrap works: the input's box, the offset it settles at, the seed
+// sphere around the input and the distance field's grid over that sphere.
+struct WrapGeometry {
+  Vec3 lo, hi;                   // the input's bounding box
+  double offset = 0.0;           // the wrap settles this far from the input, mm
+  Vec3 centre;                   // of the seed sphere
+  double radius = 0.0;           // of the seed sphere, mm
+  Vec3 field_lo, field_hi;       // the box the field covers (plus its padding)
+  DistanceFieldOptions field;
+};
+
+WrapGeometry geometry_of(const std::vector<Triangle>& input, const WrapOptions& w) {
+  WrapGeometry g;
+  g.lo = Vec3::Constant(std::numeric_limits<double>::infinity());
+  g.hi = -g.lo;
+  for (const auto& t : input)
+    for (const auto& p : t) {
+      g.lo = g.lo.cwiseMin(p);
+      g.hi = g.hi.cwiseMax(p);
+    }
+  // The wrap settles where the distance to the input is a third of the
+  // tolerance: in a concave crease of angle theta the offset surface's corner
+  // lies offset / sin(theta / 2) from the crease, so creases down to about
+  // 40 degrees stay within the tolerance.
+  g.offset = w.tolerance / 3.0;
+  g.centre = 0.5 * (g.lo + g.hi);
+  g.radius = 0.5 * (g.hi - g.lo).norm() + g.offset + 2.0 * w.cell_size;
+  g.field.cell_size = w.cell_size;
+  g.field.offset = g.offset;
+  // The grid holds the seed sphere with a cell to spare.
+  g.field_lo = g.centre - Vec3::Constant(g.radius);
+  g.field_hi = g.centre + Vec3::Constant(g.radius);
+  g.field.padding = w.cell_size;
+  return g;
+}
+
+// The calibration of estimate_wrap. Measured with `gdm wrap` (Release, 2 cores,
+// the machine shared) on the real open tooth of the MeshLab tests (6,888
+// triangles, diagonal 165.5 mm) and on the generated inputs of those tests
+// (wrap_input.ply, 5,430 triangles; wrap_slot.ply, 5,046), cell / tolerance
+// in mm -> measured faces, cycles, wall time, peak RSS:
+//   tooth    1.67 / 3.34   12,806 faces  154 cycles    3.5 s    38 MB   (112^3 cells)
+//   tooth    1.2  / 3.0    18,092        156           7.7 s    48 MB   (151^3)
+//   tooth    1.0  / 2.0    25,106        295          16.8 s    60 MB   (178^3)
+//   tooth    0.8  / 2.4    32,976        217          18.2 s    86 MB   (220^3)
+//   input    0.5  / 1.5    11,454         68           3.3 s    49 MB   (166^3)
+//   input    0.3  / 0.9    46,868        219          30.4 s   126 MB   (267^3)
+//   slot     0.5  / 1.5     4,142         83           1.0 s    30 MB   (88^3)
+//   slot     0.3  / 0.9    10,724         99           3.1 s    42 MB   (138^3)
+// The wrap's area is about kAreaPerOccupiedCell x the area of the cells of
+// side diagonal / 50 the input passes through (0.77 to 1.53 on these runs:
+// the wrap covers a sheet on both sides and a closed surface on one), its
+// mean face kFaceAreaPerLod x the level of detail (0.20 to 0.29; the coverage
+// rounds split faces below the level of detail), a cycle costs about
+// kSecondsPerFaceCycle per face (1.5 to 3.9 us), and the memory is a base,
+// the float grid and kBytesPerFace per face (0.8 to 1.6 kB).
+constexpr double kOccupancyCellsPerDiagonal = 50.0;
+constexpr double kAreaPerOccupiedCell = 1.2;
+constexpr double kFaceAreaPerLod = 0.23;
+constexpr double kCyclesPerRadiusCell = 2.0;    // cycles per seed-sphere radius in cells, plus kBaseCycles
+constexpr double kBaseCycles = 20.0;
+constexpr double kSecondsPerFaceCycle = 3.0e-6;
+constexpr double kSecondsPerDistance = 5.0e-8;  // per point-triangle distance of the field
+constexpr double kSecondsPerCell = 3.0e-9;      // per grid cell (allocation and fill)
+constexpr double kBaseBytes = 16.0 * 1048576.0;
+constexpr double kBytesPerCell = 4.0;           // the field is float
+constexpr double kBytesPerFace = 1000.0;        // the wrap, its guard grid and per-vertex state
+constexpr double kBytesPerInputTriangle = 300.0;  // the input as an obstacle and a locator
+
+// The area of the cells (side diagonal / 50) the input passes through: a
+// proxy for the wrap's area that needs no wrap and also sees point clouds.
+double occupied_area(const std::vector<Triangle>& input, const WrapGeometry& g, double cell_size) {
+  const double diagonal = (g.hi - g.lo).norm();
+  const double side = diagonal > 0.0 ? diagonal / kOccupancyCellsPerDiagonal : cell_size;
+  std::unordered_set<CellKey> cells;
+  for (const auto& t : input) {
+    const double longest = std::max({(t[1] - t[0]).norm(), (t[2] - t[1]).norm(), (t[0] - t[2]).norm()});
+    const int n = std::max(1, static_cast<int>(std::ceil(2.0 * longest / side)));
+    for (int i = 0; i <= n; ++i)
+      for (int j = 0; i + j <= n; ++j) {
+        const Vec3 p = t[0] + (t[1] - t[0]) * (static_cast<double>(i) / n) + (t[2] - t[0]) * (static_cast<double>(j) / n);
+        const auto c = cell_of(p - g.lo, side);
+        cells.insert(cell_key(c[0], c[1], c[2]));
+      }
+  }
+  return static_cast<double>(cells.size()) * side * side;
+}
+
+WrapEstimate estimate_with(const std::vector<Triangle>& input, const WrapOptions& w, double occupied) {
+  const WrapGeometry g = geometry_of(input, w);
+  const DistanceFieldSize field = distance_field_size(input, g.field_lo, g.field_hi, g.field);
+  WrapEstimate e;
+  e.grid = field.dims;
+  e.cells = field.cells;
+  e.area = kAreaPerOccupiedCell * occupied;
+  const double refinements = std::pow(4.0, w.global_refinements);
+  e.faces = refinements * e.area / (kFaceAreaPerLod * w.lod_face_area * w.cell_size * w.cell_size);
+  e.cycles = std::min<double>(w.max_cycles, kBaseCycles * (1 + w.global_refinements) +
+                                                kCyclesPerRadiusCell * g.radius / w.cell_size);
+  e.seconds = kSecondsPerFaceCycle * e.faces * e.cycles + kSecondsPerDistance * field.evaluations +
+              kSecondsPerCell * field.cells;
+  e.bytes = kBaseBytes + kBytesPerCell * field.cells + kBytesPerFace * e.faces +
+            kBytesPerInputTriangle * static_cast<double>(input.size());
+  return e;
+}
+
+// The smallest cell size (with the tolerance raised to it when below) whose
+// estimate is within the limits; 0 when none up to the input's diagonal is.
+double fitting_cell_size(const std::vector<Triangle>& input, const WrapOptions& w, double occupied) {
+  const auto fits = [&](double cell) {
+    WrapOptions o = w;
+    o.cell_size = cell;
+    o.tolerance = std::max(w.tolerance, cell);
+    const WrapEstimate e = estimate_with(input, o, occupied);
+    return (w.time_limit <= 0.0 || e.seconds <= w.time_limit) &&
+           (w.memory_limit <= 0.0 || e.bytes <= w.memory_limit * 1073741824.0);
+  };
+  const WrapGeometry g = geometry_of(input, w);
+  double bad = w.cell_size, good = std::max((g.hi - g.lo).norm(), 2.0 * w.cell_size);
+  if (!fits(good)) return 0.0;
+  for (int i = 0; i < 40 && good > 1.01 * bad; ++i) {
+    const double mid = std::sqrt(bad * good);
+    (fits(mid) ? good : bad) = mid;
+  }
+  return good;
+}
+
+// An estimate to two significant digits, without an exponent ("220", "3.1", "86000").
+std::string rough(double v) {
+  if (!(v >= 100.0) || !std::isfinite(v)) return format_number(v, 2);
+  const double unit = std::pow(10.0, std::floor(std::log10(v)) - 1.0);
+  return std::to_string(static_cast<long long>(std::round(v / unit) * unit));
+}
+
+std::string megabytes(double bytes) {
+  return bytes >= 1073741824.0 ? rough(bytes / 1073741824.0) + " GiB" : rough(bytes / 1048576.0) + " MiB";
+}
+
+// Refuses (WrapTooCostly) a wrap whose estimate exceeds the limits.
+void check_cost(const std::vector<Triangle>& input, const WrapOptions& w) {
+  if (w.time_limit <= 0.0 && w.memory_limit <= 0.0) return;
+  const WrapGeometry g = geometry_of(input, w);
+  const double occupied = occupied_area(input, g, w.cell_size);
+  const WrapEstimate e = estimate_with(input, w, occupied);
+  const bool slow = w.time_limit > 0.0 && e.seconds > w.time_limit;
+  const bool big = w.memory_limit > 0.0 && e.bytes > w.memory_limit * 1073741824.0;
+  if (!slow && !big) return;
+  const double cell = fitting_cell_size(input, w, occupied);
+  std::string message = "the wrap would take " + e.text() + ", above ";
+  if (slow) message += "the time limit of " + fmt(w.time_limit) + " s";
+  if (slow && big) message += " and ";
+  if (big) message += "the memory limit of " + fmt(w.memory_limit) + " GiB";
+  message += "; refused before starting. Raise the cell size";
+  if (cell > 0.0) {
+    const double rounded = std::ceil(cell * 100.0) / 100.0;  // up to 0.01 mm: still within the limits
+    message += " (" + fmt(rounded) + " mm is within the limits" +
+               (rounded > w.tolerance ? ", with a tolerance of at least " + fmt(rounded) + " mm" : "") + ")";
+  }
+  message += ", or the limits (time_limit, memory_limit; 0 = no limit). The cost grows as (size / cell size)^3.";
+  throw WrapTooCostly(message, e, cell);
 }
 
 // An input point far from the wrap.
@@ -150,30 +317,29 @@ std::size_t refine_near(gdm::Mesh& mesh, const std::vector<FarPoint>& points, do
 
 }  // namespace
 
+std::string WrapEstimate::text() const {
+  std::ostringstream s;
+  s << "about " << rough(seconds) << " s and " << megabytes(bytes) << " (a " << grid[0] << " x " << grid[1] << " x "
+    << grid[2] << " distance grid, about " << rough(faces) << " faces)";
+  return s.str();
+}
+
+WrapEstimate estimate_wrap(const std::vector<Triangle>& input, const WrapOptions& w) {
+  validate(input, w);
+  const WrapGeometry g = geometry_of(input, w);
+  return estimate_with(input, w, occupied_area(input, g, w.cell_size));
+}
+
 WrapResult shrink_wrap(const std::vector<Triangle>& input, const WrapOptions& w, const DeformObserver& observer) {
   validate(input, w);
+  check_cost(input, w);
   WrapResult out;
   std::vector<std::string>* log = &out.notes;
-  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-  for (const auto& t : input)
-    for (const auto& p : t) {
-      lo = lo.cwiseMin(p);
-      hi = hi.cwiseMax(p);
-    }
-  // The wrap settles where the distance to the input is a third of the
-  // tolerance: in a concave crease of angle theta the offset surface's corner
-  // lies offset / sin(theta / 2) from the crease, so creases down to about
-  // 40 degrees stay within the tolerance.
-  const double offset = w.tolerance / 3.0;
-  const Vec3 centre = 0.5 * (lo + hi);
-  const double radius = 0.5 * (hi - lo).norm() + offset + 2.0 * w.cell_size;
-  DistanceFieldOptions fo;
-  fo.cell_size = w.cell_size;
-  fo.offset = offset;
-  // The grid holds the seed sphere with a cell to spare.
-  const Vec3 sphere_lo = centre - Vec3::Constant(radius), sphere_hi = centre + Vec3::Constant(radius);
-  fo.padding = w.cell_size;
-  const Volume field = distance_field(input, sphere_lo, sphere_hi, fo, w.field_progress);
+  const WrapGeometry g = geometry_of(input, w);
+  const double offset = g.offset;
+  const Vec3 centre = g.centre;
+  const double radius = g.radius;
+  const Volume field = distance_field(input, g.field_lo, g.field_hi, g.field, w.field_progress);
   if (field.voxel_count() == 0) throw Error("cancelled");
   log->push_back("distance field: " + std::to_string(field.dims()[0]) + " x " + std::to_string(field.dims()[1]) +
                  " x " + std::to_string(field.dims()[2]) + " cells of " + fmt(w.cell_size) + " mm; the wrap settles " +

@@ -28,4 +28,16 @@ struct DistanceFieldOptions {
 Volume distance_field(const std::vector<Triangle>& triangles, const Vec3& lo, const Vec3& hi,
                       const DistanceFieldOptions& options, const std::function<bool(double)>& progress = {});
 
+// What distance_field would build, without building it (for cost estimates):
+// the grid's cells per axis, and the number of point-triangle distances it
+// would evaluate (each triangle's box of cells within the clamp). Throws as
+// distance_field does for a bad cell size or offset; no cell limit.
+struct DistanceFieldSize {
+  Index3 dims = {0, 0, 0};
+  double cells = 0.0;        // dims[0] * dims[1] * dims[2]
+  double evaluations = 0.0;  // point-triangle distances
+};
+DistanceFieldSize distance_field_size(const std::vector<Triangle>& triangles, const Vec3& lo, const Vec3& hi,
+                                      const DistanceFieldOptions& options);
+
 }  // namespace gdm
