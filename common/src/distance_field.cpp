@@ -33,6 +33,7 @@ Grid grid_of(const std::vector<Triangle>& triangles, const Vec3& lo, const Vec3&
   if (!(std::isfinite(o.cell_size) && o.cell_size > 0.0))
     throw gdm::InvalidOption("the grid cell size must be positive");
   if (!(std::isfinite(o.offset) && o.offset > 0.0)) throw gdm::InvalidOption("the wrap offset must be positive");
+  if (!(std::isfinite(o.closing) && o.closing >= 0.0)) throw gdm::InvalidOption("the closing radius must be >= 0");
   if (triangles.empty()) throw gdm::InvalidOption("the mesh has no faces and no vertices to wrap");
   Grid g;
   g.h = o.cell_size;
@@ -43,8 +44,118 @@ Grid grid_of(const std::vector<Triangle>& triangles, const Vec3& lo, const Vec3&
     g.dims[i] = n < 2.0 ? 2 : n > 1e9 ? 1000000000 : static_cast<int>(n);
     g.cells *= g.dims[i];
   }
-  g.cap = o.offset + 3.0 * g.h;
+  g.cap = o.offset + std::max(0.0, o.closing) + 3.0 * g.h;
   return g;
+}
+
+// The squared Euclidean distance transform of one line (Felzenszwalb and
+// Huttenlocher, "Distance transforms of sampled functions", 2012): f holds 0
+// (a feature) or a large value; on return f[i] = min_j (i - j)^2 + f[j].
+void edt_line(std::vector<double>& f, std::vector<double>& d, std::vector<int>& v, std::vector<double>& z) {
+  const int n = static_cast<int>(f.size());
+  const double inf = std::numeric_limits<double>::infinity();
+  int k = 0;
+  v[0] = 0;
+  z[0] = -inf;
+  z[1] = inf;
+  for (int q = 1; q < n; ++q) {
+    double s;
+    while (true) {
+      const int p = v[k];
+      s = ((f[q] + double(q) * q) - (f[p] + double(p) * p)) / (2.0 * (q - p));
+      if (s <= z[k] && k > 0) {
+        --k;
+        continue;
+      }
+      break;
+    }
+    if (s <= z[k]) {  // k == 0: the new parabola is lower everywhere
+      v[0] = q;
+      z[0] = -inf;
+      z[1] = inf;
+      continue;
+    }
+    ++k;
+    v[k] = q;
+    z[k] = s;
+    z[k + 1] = inf;
+  }
+  k = 0;
+  for (int q = 0; q < n; ++q) {
+    while (z[k + 1] < q) ++k;
+    d[q] = (q - v[k]) * double(q - v[k]) + f[v[k]];
+  }
+  f.swap(d);
+}
+
+// The field of the wrap with balls of radius r: the free space a ball of
+// radius r reaches from the grid's border without coming closer than
+// `offset` to the input (ball centres farther than offset + r, connected to
+// the border) is where the value is above `offset`; the rest, holes and
+// cavities such a ball cannot enter included, is below. The value is
+// offset + r - (distance to the nearest reachable centre).
+void wrap_by_balls(std::vector<float>& values, const Index3& dims, double h, double offset, double r) {
+  const double outer = offset + r;
+  const std::size_t n = values.size();
+  const std::size_t sy = static_cast<std::size_t>(dims[0]), sz = sy * static_cast<std::size_t>(dims[1]);
+  // Reachable centres: a flood fill (6-neighbours) from the border cells.
+  std::vector<unsigned char> reached(n, 0);
+  std::vector<std::size_t> queue;
+  const auto centre = [&](std::size_t i) { return values[i] > outer; };
+  for (int k = 0; k < dims[2]; ++k)
+    for (int j = 0; j < dims[1]; ++j)
+      for (int i = 0; i < dims[0]; ++i) {
+        const bool border = i == 0 || j == 0 || k == 0 || i == dims[0] - 1 || j == dims[1] - 1 || k == dims[2] - 1;
+        if (!border) continue;
+        const std::size_t c = i + sy * j + sz * k;
+        if (centre(c) && !reached[c]) {
+          reached[c] = 1;
+          queue.push_back(c);
+        }
+      }
+  for (std::size_t q = 0; q < queue.size(); ++q) {
+    const std::size_t c = queue[q];
+    const int i = static_cast<int>(c % sy), j = static_cast<int>((c / sy) % dims[1]), k = static_cast<int>(c / sz);
+    const auto visit = [&](std::size_t d) {
+      if (!reached[d] && centre(d)) {
+        reached[d] = 1;
+        queue.push_back(d);
+      }
+    };
+    if (i > 0) visit(c - 1);
+    if (i + 1 < dims[0]) visit(c + 1);
+    if (j > 0) visit(c - sy);
+    if (j + 1 < dims[1]) visit(c + sy);
+    if (k > 0) visit(c - sz);
+    if (k + 1 < dims[2]) visit(c + sz);
+  }
+  std::vector<std::size_t>().swap(queue);
+  // Squared distance (in cells) to the nearest reachable centre.
+  const double big = 1e30;
+  std::vector<float> sq(n);
+  for (std::size_t c = 0; c < n; ++c) sq[c] = reached[c] ? 0.0f : static_cast<float>(big);
+  std::vector<unsigned char>().swap(reached);
+  const std::size_t stride[3] = {1, sy, sz};
+  for (int axis = 0; axis < 3; ++axis) {
+    const int m = dims[axis];
+    std::vector<double> f(m), d(m), z(m + 1);
+    std::vector<int> v(m);
+    const int a = (axis + 1) % 3, b = (axis + 2) % 3;
+    for (int j = 0; j < dims[b]; ++j)
+      for (int i = 0; i < dims[a]; ++i) {
+        const std::size_t base = stride[a] * i + stride[b] * j;
+        bool any = false;
+        for (int q = 0; q < m; ++q) {
+          f[q] = sq[base + stride[axis] * q];
+          any = any || f[q] < big;
+        }
+        if (!any) continue;  // nothing reachable on this line yet
+        edt_line(f, d, v, z);
+        for (int q = 0; q < m; ++q) sq[base + stride[axis] * q] = static_cast<float>(std::min(f[q], big));
+      }
+  }
+  for (std::size_t c = 0; c < n; ++c)
+    values[c] = static_cast<float>(outer - h * std::sqrt(static_cast<double>(sq[c])));
 }
 
 }  // namespace
@@ -95,6 +206,7 @@ Volume distance_field(const std::vector<Triangle>& triangles, const Vec3& lo, co
           if (d < v) v = static_cast<float>(d);
         }
   }
+  if (o.closing > 0.0) wrap_by_balls(values, dims, g.h, o.offset, o.closing);
   return gdm::Volume(dims, std::move(values), gdm::Vec3::Constant(g.h), g.origin);
 }
 

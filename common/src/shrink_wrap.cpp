@@ -65,6 +65,7 @@ void validate(const std::vector<Triangle>& input, const WrapOptions& w) {
   require(std::isfinite(w.tolerance) && w.tolerance > 0.0, "tolerance must be > 0 (mm), got " + fmt(w.tolerance));
   require(w.tolerance >= w.cell_size, "tolerance (" + fmt(w.tolerance) + ") must be >= cell_size (" +
                                           fmt(w.cell_size) + "): the grid cannot resolve a closer wrap");
+  require(std::isfinite(w.bridge) && w.bridge >= 0.0, "bridge must be >= 0 (mm; 0 = off), got " + fmt(w.bridge));
   require(w.coverage_rounds >= 0, "coverage_rounds must be >= 0, got " + std::to_string(w.coverage_rounds));
   // The model's options: the catalogue's ranges (lod_face_area in cell^2 here).
   const DeformOptions model = model_options(w);
@@ -111,6 +112,7 @@ WrapGeometry geometry_of(const std::vector<Triangle>& input, const WrapOptions& 
   g.field_lo = g.centre - Vec3::Constant(g.radius);
   g.field_hi = g.centre + Vec3::Constant(g.radius);
   g.field.padding = w.cell_size;
+  g.field.closing = 0.5 * w.bridge;
   return g;
 }
 
@@ -179,7 +181,7 @@ WrapEstimate estimate_with(const std::vector<Triangle>& input, const WrapOptions
                                                 kCyclesPerRadiusCell * g.radius / w.cell_size);
   e.seconds = kSecondsPerFaceCycle * e.faces * e.cycles + kSecondsPerDistance * field.evaluations +
               kSecondsPerCell * field.cells;
-  e.bytes = kBaseBytes + kBytesPerCell * field.cells + kBytesPerFace * e.faces +
+  e.bytes = kBaseBytes + kBytesPerCell * (w.bridge > 0.0 ? 2.0 : 1.0) * field.cells + kBytesPerFace * e.faces +
             kBytesPerInputTriangle * static_cast<double>(input.size());
   return e;
 }

@@ -24,7 +24,7 @@ namespace {
 
 const char* const kUsage =
     "usage: gdm wrap IN.(ply|obj|off|stl|vtk) -o OUT.(ply|obj|off|stl|vtk) --tolerance D\n"
-    "                [--cell-size C] [--coverage-rounds N] [--time-limit S] [--memory-limit GB]\n"
+    "                [--cell-size C] [--bridge W] [--coverage-rounds N] [--time-limit S] [--memory-limit GB]\n"
     "                [--estimate] [--quiet] [--report R.json]\n"
     "\n"
     "A closed, 2-manifold, genus-0, self-intersection-free mesh around every triangle of IN\n"
@@ -32,6 +32,9 @@ const char* const kUsage =
     "  -o, --output FILE        the wrap (.ply keeps the per-vertex generation)\n"
     "  --tolerance D            wanted largest distance of IN from the wrap, mm (> 0, required)\n"
     "  --cell-size C            distance-field cell, mm (<= D; default D / 3)\n"
+    "  --bridge W               span openings (holes) up to about W mm wide with a smooth cap, the envelope\n"
+    "                           of a ball of diameter W, instead of sinking into them (default 0 = off;\n"
+    "                           input under a cap may then lie farther than D)\n"
     "  --coverage-rounds N      refinement rounds where IN lies beyond 90% of D (default 4, 0 = off)\n"
     "  --time-limit S           refuse, before starting, a wrap estimated to take longer (s; default 180,\n"
     "                           0 = no limit)\n"
@@ -48,6 +51,7 @@ struct WrapArgs {
   double tolerance = std::nan("");
   double cell_size = std::nan("");  // default tolerance / 3
   int coverage_rounds = 4;
+  double bridge = 0.0;  // mm, 0 = off
   double time_limit = gdm::WrapOptions{}.time_limit;      // s, 0 = none
   double memory_limit = gdm::WrapOptions{}.memory_limit;  // GiB, 0 = none
   bool estimate = false;
@@ -83,6 +87,10 @@ WrapArgs parse(int argc, char* argv[]) {
     else if (arg == "-o" || arg == "--output") a.output = value();
     else if (arg == "--tolerance") a.tolerance = number(arg, value());
     else if (arg == "--cell-size") a.cell_size = number(arg, value());
+    else if (arg == "--bridge") {
+      a.bridge = number(arg, value());
+      if (a.bridge < 0) throw UsageError("--bridge must be >= 0 (mm; 0 = off), got " + std::string(argv[i]));
+    }
     else if (arg == "--coverage-rounds") {
       const double n = number(arg, value());
       if (n != std::floor(n) || n < 0 || n > 1000) throw UsageError("--coverage-rounds must be an integer in [0, 1000]");
@@ -150,6 +158,7 @@ std::string report_json(const WrapArgs& a, std::size_t input_triangles, const gd
       .add("output", json_string(a.output))
       .add("tolerance_mm", json_number(a.tolerance))
       .add("cell_size_mm", json_number(a.cell_size))
+      .add("bridge_mm", json_number(a.bridge))
       .add("coverage_rounds", json_number(a.coverage_rounds))
       .add("time_limit_s", json_number(a.time_limit))
       .add("memory_limit_gib", json_number(a.memory_limit));
@@ -189,6 +198,7 @@ int run(const WrapArgs& a) {
   o.tolerance = a.tolerance;
   o.cell_size = a.cell_size;
   o.coverage_rounds = a.coverage_rounds;
+  o.bridge = a.bridge;
   o.time_limit = a.time_limit;
   o.memory_limit = a.memory_limit;
   gdm::WrapEstimate estimate;

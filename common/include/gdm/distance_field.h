@@ -16,8 +16,16 @@ struct DistanceFieldOptions {
   double cell_size = 1.0;  // grid spacing, mm (> 0)
   double offset = 1.0;     // the wrap settles on the surface at this distance from the input, mm (> 0)
   double padding = 0.0;    // extra room around `lo`..`hi`, mm (the seed sphere must fit)
+  double closing = 0.0;    // radius of balls rolled in from outside, mm (>= 0; 0 = none): openings a ball
+                           // cannot pass are spanned by the balls' smooth envelope
 };
 
+// With `closing` = r > 0 the free space is what balls of radius r reach from
+// the grid's border without coming within `offset` of the input (centres
+// flood-filled from the border, then an exact Euclidean distance transform of
+// the grid): the value is offset + r - the distance to the nearest reachable
+// centre, so the wrap settles on the balls' envelope, which spans holes and
+// cavity openings the balls cannot pass instead of sinking into them.
 // The grid covers [lo - padding, hi + padding] plus two cells on each side.
 // Values are the unsigned distance to the nearest triangle, clamped at
 // offset + 3 cells (the far field only needs to be "free"). The object is

@@ -28,6 +28,10 @@ struct WrapOptions {
   double cell_size = 1.0;        // distance-field grid spacing, mm (> 0)
   double tolerance = 2.0;        // wanted largest distance of the input from the wrap, mm (>= cell_size);
                                  // the wrap settles tolerance / 3 from the input
+  double bridge = 0.0;           // openings of the input up to about this wide (holes, gaps, narrow cavities)
+                                 // are spanned by a smooth cap, the envelope of a ball of diameter `bridge`
+                                 // rolled over the offset surface, instead of the wrap sinking into them; mm,
+                                 // >= 0, 0 = off. Input under a cap may end farther than the tolerance
   int coverage_rounds = 4;       // local refinement rounds while input lies beyond 90% of the tolerance
                                  // after the convergence (0 = off, >= 0)
   // The model (gdm::DeformOptions, Table 2 and section 6):
