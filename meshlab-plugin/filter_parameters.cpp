@@ -95,6 +95,8 @@ std::vector<FilterParam> make(Filter filter) {
                     "Largest distance of the layer from the wrap, at least the cell size. Default: 2% of the diagonal.",
                     0.02),
               option("lod_face_area", "cell^2"), wrap_refinements(),
+              param("bridge", ParamKind::real, "Bridge (mm)",
+                    "Openings up to about this wide get a smooth cap instead of the wrap sinking in; 0 = off.", 0.0),
               param("time_limit", ParamKind::real, "Time limit (s)",
                     "Refuse at once a wrap estimated to take longer (the log gives the estimate); 0 = no limit.",
                     gdm::WrapOptions{}.time_limit),

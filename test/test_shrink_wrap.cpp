@@ -196,6 +196,90 @@ TEST(ShrinkWrap, bridge_caps_a_hole_smoothly) {
   expect_refused(input, o, "bridge must be >= 0");
 }
 
+// An open box: the five faces of a 20 x 14 x 10 mm box without its top, each
+// split into triangles of about 1 mm (a planar hole of 20 x 14 mm at z = 10).
+std::vector<gdm::Triangle> open_box() {
+  std::vector<gdm::Triangle> out;
+  const auto quad = [&out](const gdm::Vec3& o, const gdm::Vec3& u, const gdm::Vec3& v) {
+    const int nu = static_cast<int>(std::ceil(u.norm())), nv = static_cast<int>(std::ceil(v.norm()));
+    for (int i = 0; i < nu; ++i)
+      for (int j = 0; j < nv; ++j) {
+        const gdm::Vec3 a = o + u * (double(i) / nu) + v * (double(j) / nv);
+        const gdm::Vec3 b = o + u * (double(i + 1) / nu) + v * (double(j) / nv);
+        const gdm::Vec3 c = o + u * (double(i + 1) / nu) + v * (double(j + 1) / nv);
+        const gdm::Vec3 d = o + u * (double(i) / nu) + v * (double(j + 1) / nv);
+        out.push_back({a, b, c});
+        out.push_back({a, c, d});
+      }
+  };
+  const gdm::Vec3 X(20, 0, 0), Y(0, 14, 0), Z(0, 0, 10), O(0, 0, 0);
+  quad(O, Y, X);          // bottom
+  quad(O, X, Z);          // y = 0
+  quad(O + Y, Z, X);      // y = 14
+  quad(O, Z, Y);          // x = 0
+  quad(O + X, Y, Z);      // x = 20
+  return out;
+}
+
+// Pyramids over holes: the wrap's vertices farther than `beyond` from the
+// input (nothing in the field holds them) whose eq. 3 ratio, the distance
+// from the centroid of their neighbours over the neighbours' largest
+// separation, exceeds 0.3: they stand out of their ring like the apex of a
+// pyramid (the model's hard limit is 0.5). `free_count` gets the vertices
+// farther than `beyond`.
+std::size_t pyramids(const gdm::Mesh& wrap, const std::vector<gdm::Triangle>& input, double beyond,
+                     std::size_t* free_count) {
+  const gdm::TriangleLocator to_input(input);
+  std::size_t count = 0, free = 0;
+  for (auto v : wrap.vertices()) {
+    const gdm::Vec3 p = gdm::to_eigen(wrap.point(v));
+    if (to_input.distance(p) <= beyond) continue;
+    ++free;
+    std::vector<gdm::Vec3> ring;
+    for (auto w : wrap.vv_range(v)) ring.push_back(gdm::to_eigen(wrap.point(w)));
+    gdm::Vec3 centroid = gdm::Vec3::Zero();
+    for (const auto& q : ring) centroid += q / static_cast<double>(ring.size());
+    double extent = 0.0;
+    for (std::size_t i = 0; i < ring.size(); ++i)
+      for (std::size_t j = i + 1; j < ring.size(); ++j) extent = std::max(extent, (ring[i] - ring[j]).norm());
+    if (extent > 0.0 && (p - centroid).norm() / extent > 0.3) ++count;
+  }
+  *free_count = free;
+  return count;
+}
+
+// Without a bridge the wrap sinks through a hole much wider than its faces;
+// what the field does not hold over it is faired: at most half the pyramids
+// of the unfaired wrap (see `pyramids`; measured 12 -> 6 of 53 vertices on
+// the open sphere, 29 -> 11 of 174 on the open box; the rest sit in folds
+// where the guard refuses the move). With a bridge there are none
+// (bridge_caps_a_hole_smoothly).
+TEST(ShrinkWrap, no_pyramids_over_holes) {
+  struct Case {
+    const char* name;
+    std::vector<gdm::Triangle> input;
+    double cell, tolerance;
+  };
+  const std::vector<Case> cases = {{"open sphere", open_sphere_soup(), 0.5, 1.5}, {"open box", open_box(), 0.4, 1.2}};
+  for (const auto& c : cases) {
+    gdm::WrapOptions o = options(c.cell, c.tolerance);
+    const double beyond = c.tolerance / 3.0 + 1.5 * c.cell;
+    o.fairing = false;
+    const gdm::WrapResult raw = gdm::shrink_wrap(c.input, o);
+    o.fairing = true;
+    const gdm::WrapResult faired = gdm::shrink_wrap(c.input, o);
+    expect_valid_wrap(c.input, faired, c.tolerance);
+    std::size_t raw_free = 0, faired_free = 0;
+    const std::size_t before = pyramids(raw.mesh, c.input, beyond, &raw_free);
+    const std::size_t after = pyramids(faired.mesh, c.input, beyond, &faired_free);
+    std::cout << c.name << ": pyramids " << before << " of " << raw_free << " free vertices unfaired, " << after
+              << " of " << faired_free << " faired\n";
+    EXPECT_GT(before, 0u) << c.name << ": no pyramids to fair (the case no longer tests anything)";
+    EXPECT_LE(2 * after, before) << c.name;
+    EXPECT_LE(after, faired_free / 6) << c.name;
+  }
+}
+
 // ------------------------------------------------------------- the cost --
 
 // The process's peak resident memory (VmHWM), bytes; resets the peak first
@@ -225,31 +309,6 @@ gdm::Index3 built_grid(const gdm::WrapResult& r) {
       return g;
     }
   return {0, 0, 0};
-}
-
-// An open box: the five faces of a 20 x 14 x 10 mm box without its top, each
-// split into triangles of about 1 mm (a planar hole of 20 x 14 mm at z = 10).
-std::vector<gdm::Triangle> open_box() {
-  std::vector<gdm::Triangle> out;
-  const auto quad = [&out](const gdm::Vec3& o, const gdm::Vec3& u, const gdm::Vec3& v) {
-    const int nu = static_cast<int>(std::ceil(u.norm())), nv = static_cast<int>(std::ceil(v.norm()));
-    for (int i = 0; i < nu; ++i)
-      for (int j = 0; j < nv; ++j) {
-        const gdm::Vec3 a = o + u * (double(i) / nu) + v * (double(j) / nv);
-        const gdm::Vec3 b = o + u * (double(i + 1) / nu) + v * (double(j) / nv);
-        const gdm::Vec3 c = o + u * (double(i + 1) / nu) + v * (double(j + 1) / nv);
-        const gdm::Vec3 d = o + u * (double(i) / nu) + v * (double(j + 1) / nv);
-        out.push_back({a, b, c});
-        out.push_back({a, c, d});
-      }
-  };
-  const gdm::Vec3 X(20, 0, 0), Y(0, 14, 0), Z(0, 0, 10), O(0, 0, 0);
-  quad(O, Y, X);          // bottom
-  quad(O, X, Z);          // y = 0
-  quad(O + Y, Z, X);      // y = 14
-  quad(O, Z, Y);          // x = 0
-  quad(O + X, Y, Z);      // x = 20
-  return out;
 }
 
 // The estimate against the wrap it predicts, on generated inputs: the grid is

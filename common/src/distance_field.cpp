@@ -33,7 +33,6 @@ Grid grid_of(const std::vector<Triangle>& triangles, const Vec3& lo, const Vec3&
   if (!(std::isfinite(o.cell_size) && o.cell_size > 0.0))
     throw gdm::InvalidOption("the grid cell size must be positive");
   if (!(std::isfinite(o.offset) && o.offset > 0.0)) throw gdm::InvalidOption("the wrap offset must be positive");
-  if (!(std::isfinite(o.closing) && o.closing >= 0.0)) throw gdm::InvalidOption("the closing radius must be >= 0");
   if (triangles.empty()) throw gdm::InvalidOption("the mesh has no faces and no vertices to wrap");
   Grid g;
   g.h = o.cell_size;
@@ -44,7 +43,7 @@ Grid grid_of(const std::vector<Triangle>& triangles, const Vec3& lo, const Vec3&
     g.dims[i] = n < 2.0 ? 2 : n > 1e9 ? 1000000000 : static_cast<int>(n);
     g.cells *= g.dims[i];
   }
-  g.cap = o.offset + std::max(0.0, o.closing) + 3.0 * g.h;
+  g.cap = o.offset + 3.0 * g.h;
   return g;
 }
 
@@ -88,53 +87,10 @@ void edt_line(std::vector<double>& f, std::vector<double>& d, std::vector<int>& 
   f.swap(d);
 }
 
-// The field of the wrap with balls of radius r: the free space a ball of
-// radius r reaches from the grid's border without coming closer than
-// `offset` to the input (ball centres farther than offset + r, connected to
-// the border) is where the value is above `offset`; the rest, holes and
-// cavities such a ball cannot enter included, is below. The value is
-// offset + r - (distance to the nearest reachable centre).
-void wrap_by_balls(std::vector<float>& values, const Index3& dims, double h, double offset, double r) {
-  const double outer = offset + r;
-  const std::size_t n = values.size();
+// Squared Euclidean distance transform of a grid, in cells^2, in place: 0 at
+// features, `big` elsewhere on entry.
+void squared_edt(std::vector<float>& sq, const Index3& dims, double big) {
   const std::size_t sy = static_cast<std::size_t>(dims[0]), sz = sy * static_cast<std::size_t>(dims[1]);
-  // Reachable centres: a flood fill (6-neighbours) from the border cells.
-  std::vector<unsigned char> reached(n, 0);
-  std::vector<std::size_t> queue;
-  const auto centre = [&](std::size_t i) { return values[i] > outer; };
-  for (int k = 0; k < dims[2]; ++k)
-    for (int j = 0; j < dims[1]; ++j)
-      for (int i = 0; i < dims[0]; ++i) {
-        const bool border = i == 0 || j == 0 || k == 0 || i == dims[0] - 1 || j == dims[1] - 1 || k == dims[2] - 1;
-        if (!border) continue;
-        const std::size_t c = i + sy * j + sz * k;
-        if (centre(c) && !reached[c]) {
-          reached[c] = 1;
-          queue.push_back(c);
-        }
-      }
-  for (std::size_t q = 0; q < queue.size(); ++q) {
-    const std::size_t c = queue[q];
-    const int i = static_cast<int>(c % sy), j = static_cast<int>((c / sy) % dims[1]), k = static_cast<int>(c / sz);
-    const auto visit = [&](std::size_t d) {
-      if (!reached[d] && centre(d)) {
-        reached[d] = 1;
-        queue.push_back(d);
-      }
-    };
-    if (i > 0) visit(c - 1);
-    if (i + 1 < dims[0]) visit(c + 1);
-    if (j > 0) visit(c - sy);
-    if (j + 1 < dims[1]) visit(c + sy);
-    if (k > 0) visit(c - sz);
-    if (k + 1 < dims[2]) visit(c + sz);
-  }
-  std::vector<std::size_t>().swap(queue);
-  // Squared distance (in cells) to the nearest reachable centre.
-  const double big = 1e30;
-  std::vector<float> sq(n);
-  for (std::size_t c = 0; c < n; ++c) sq[c] = reached[c] ? 0.0f : static_cast<float>(big);
-  std::vector<unsigned char>().swap(reached);
   const std::size_t stride[3] = {1, sy, sz};
   for (int axis = 0; axis < 3; ++axis) {
     const int m = dims[axis];
@@ -149,13 +105,11 @@ void wrap_by_balls(std::vector<float>& values, const Index3& dims, double h, dou
           f[q] = sq[base + stride[axis] * q];
           any = any || f[q] < big;
         }
-        if (!any) continue;  // nothing reachable on this line yet
+        if (!any) continue;  // no feature on this line yet
         edt_line(f, d, v, z);
         for (int q = 0; q < m; ++q) sq[base + stride[axis] * q] = static_cast<float>(std::min(f[q], big));
       }
   }
-  for (std::size_t c = 0; c < n; ++c)
-    values[c] = static_cast<float>(outer - h * std::sqrt(static_cast<double>(sq[c])));
 }
 
 }  // namespace
@@ -206,8 +160,94 @@ Volume distance_field(const std::vector<Triangle>& triangles, const Vec3& lo, co
           if (d < v) v = static_cast<float>(d);
         }
   }
-  if (o.closing > 0.0) wrap_by_balls(values, dims, g.h, o.offset, o.closing);
   return gdm::Volume(dims, std::move(values), gdm::Vec3::Constant(g.h), g.origin);
+}
+
+Volume bridged_distance_field(const Volume& distance, double offset, double radius) {
+  const Index3 dims = distance.dims();
+  const double h = distance.voxel_size();
+  const std::vector<float>& dist = distance.values();
+  const std::size_t n = dist.size();
+  const std::size_t sy = static_cast<std::size_t>(dims[0]), sz = sy * static_cast<std::size_t>(dims[1]);
+  const double big = 1e30;
+  // Distance to the input beyond distance_field's clamp: from the cells
+  // within a cell of the input (within a cell of the truth).
+  std::vector<float> sq(n);
+  for (std::size_t c = 0; c < n; ++c) sq[c] = dist[c] <= h ? 0.0f : static_cast<float>(big);
+  squared_edt(sq, dims, big);
+  const double centre_sq = std::pow((offset + radius) / h, 2.0);
+  // Reachable centres: a flood fill (6-neighbours) from the border cells.
+  std::vector<unsigned char> reached(n, 0);
+  std::vector<std::size_t> queue;
+  const auto is_border = [&](int i, int j, int k) {
+    return i == 0 || j == 0 || k == 0 || i == dims[0] - 1 || j == dims[1] - 1 || k == dims[2] - 1;
+  };
+  for (int k = 0; k < dims[2]; ++k)
+    for (int j = 0; j < dims[1]; ++j)
+      for (int i = 0; i < dims[0]; ++i)
+        if (is_border(i, j, k)) {
+          const std::size_t c = i + sy * j + sz * k;
+          if (sq[c] <= centre_sq) continue;  // a ball there would touch the input
+          reached[c] = 1;
+          queue.push_back(c);
+        }
+  for (std::size_t q = 0; q < queue.size(); ++q) {
+    const std::size_t c = queue[q];
+    const int i = static_cast<int>(c % sy), j = static_cast<int>((c / sy) % dims[1]), k = static_cast<int>(c / sz);
+    const auto visit = [&](std::size_t e) {
+      if (!reached[e] && sq[e] > centre_sq) {
+        reached[e] = 1;
+        queue.push_back(e);
+      }
+    };
+    if (i > 0) visit(c - 1);
+    if (i + 1 < dims[0]) visit(c + 1);
+    if (j > 0) visit(c - sy);
+    if (j + 1 < dims[1]) visit(c + sy);
+    if (k > 0) visit(c - sz);
+    if (k + 1 < dims[2]) visit(c + sz);
+  }
+  std::vector<std::size_t>().swap(queue);
+  // Distance to the nearest reachable centre, then the balls' field.
+  for (std::size_t c = 0; c < n; ++c) sq[c] = reached[c] ? 0.0f : static_cast<float>(big);
+  std::vector<unsigned char>().swap(reached);
+  squared_edt(sq, dims, big);
+  const double top = offset + radius + h;
+  for (std::size_t c = 0; c < n; ++c)
+    sq[c] = std::min(dist[c], static_cast<float>(top - h * std::sqrt(static_cast<double>(sq[c]))));
+  Volume out(dims, std::move(sq), distance.spacing(), distance.origin(), distance.direction());
+  out.set_outside_value(distance.outside_value());
+  return out;
+}
+
+void reopen_field(Volume& field, const Volume& distance, const std::vector<Vec3>& points,
+                  const std::vector<double>& radii) {
+  const Index3 dims = field.dims();
+  const double h = field.voxel_size();
+  const Vec3 origin = field.origin(), spacing = field.spacing();
+  const Eigen::Matrix3d direction = field.direction();
+  const double outside = field.outside_value();
+  const std::vector<float>& dist = distance.values();
+  std::vector<float> values = field.take_values();
+  const std::size_t sy = static_cast<std::size_t>(dims[0]), sz = sy * static_cast<std::size_t>(dims[1]);
+  for (std::size_t p = 0; p < points.size(); ++p) {
+    const Vec3 c = (points[p] - origin) / h;
+    const double r = radii[p] / h;
+    int a[3], b[3];
+    for (int i = 0; i < 3; ++i) {
+      a[i] = std::max(0, static_cast<int>(std::floor(c[i] - r)));
+      b[i] = std::min(dims[i] - 1, static_cast<int>(std::ceil(c[i] + r)));
+    }
+    for (int k = a[2]; k <= b[2]; ++k)
+      for (int j = a[1]; j <= b[1]; ++j)
+        for (int i = a[0]; i <= b[0]; ++i)
+          if ((Vec3(i, j, k) - c).squaredNorm() <= r * r) {
+            const std::size_t e = i + sy * j + sz * k;
+            values[e] = dist[e];
+          }
+  }
+  field = Volume(dims, std::move(values), spacing, origin, direction);
+  field.set_outside_value(outside);
 }
 
 }  // namespace gdm

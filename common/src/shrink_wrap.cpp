@@ -12,6 +12,7 @@
 #include "gdm/distance_field.h"
 #include "gdm/errors.h"
 #include "gdm/float_snap.h"
+#include "gdm/intersection_guard.h"
 #include "gdm/mesh_checks.h"
 #include "gdm/obstacle.h"
 #include "gdm/resampler.h"
@@ -111,8 +112,9 @@ WrapGeometry geometry_of(const std::vector<Triangle>& input, const WrapOptions& 
   // The grid holds the seed sphere with a cell to spare.
   g.field_lo = g.centre - Vec3::Constant(g.radius);
   g.field_hi = g.centre + Vec3::Constant(g.radius);
-  g.field.padding = w.cell_size;
-  g.field.closing = 0.5 * w.bridge;
+  // Bridging rolls balls of diameter `bridge` in from the grid's border: the
+  // grid reaches a ball's radius beyond the input's offset.
+  g.field.padding = w.cell_size + (w.bridge > 0.0 ? 0.5 * w.bridge + g.offset : 0.0);
   return g;
 }
 
@@ -181,7 +183,8 @@ WrapEstimate estimate_with(const std::vector<Triangle>& input, const WrapOptions
                                                 kCyclesPerRadiusCell * g.radius / w.cell_size);
   e.seconds = kSecondsPerFaceCycle * e.faces * e.cycles + kSecondsPerDistance * field.evaluations +
               kSecondsPerCell * field.cells;
-  e.bytes = kBaseBytes + kBytesPerCell * (w.bridge > 0.0 ? 2.0 : 1.0) * field.cells + kBytesPerFace * e.faces +
+  // Bridging keeps a second float grid and a byte per cell while it builds it.
+  e.bytes = kBaseBytes + (w.bridge > 0.0 ? 2.0 * kBytesPerCell + 1.0 : kBytesPerCell) * field.cells + kBytesPerFace * e.faces +
             kBytesPerInputTriangle * static_cast<double>(input.size());
   return e;
 }
@@ -317,6 +320,53 @@ std::size_t refine_near(gdm::Mesh& mesh, const std::vector<FarPoint>& points, do
   return splits;
 }
 
+// Fairing of the vertices the field does not hold. The model's pressure (D)
+// is stronger per cell than eq. 3's pull (a2 / extent, the extent floored at
+// the level of detail), so a vertex over free space, where nothing in the
+// field stops it, advances until eq. 3's ratio reaches its hard limit (0.5):
+// over a hole, and where the wrap sinks through one, such vertices stand an
+// edge's height above or below their neighbours (the "pyramids"). Here every
+// vertex more than a cell beyond the level the wrap settles at is moved
+// toward the centroid of its neighbours, in vertex order (the same result for
+// any thread count), a cell at most per pass, while it stays out of the
+// object region, the guard and the obstacle accept it; the vertices the field
+// holds stay. Returns the moves made; `free_count` gets the vertices faired.
+std::size_t fair_unsupported(Mesh& mesh, const Volume& field, double level, double cell, const Obstacle& obstacle,
+                             int passes, std::size_t* free_count) {
+  std::vector<Mesh::VertexHandle> free;
+  for (auto v : mesh.vertices())
+    if (field.sample(to_eigen(mesh.point(v))) > level + cell) free.push_back(v);
+  *free_count = free.size();
+  if (free.empty()) return 0;
+  IntersectionGuard guard(mesh, cell, 1e-6 * cell * cell);
+  std::size_t moves = 0;
+  for (int pass = 0; pass < passes; ++pass) {
+    if (pass > 0) guard.rebuild();
+    double largest = 0.0;
+    for (auto v : free) {
+      const Vec3 p = to_eigen(mesh.point(v));
+      Vec3 centroid = Vec3::Zero();
+      int n = 0;
+      for (auto w : mesh.vv_range(v)) {
+        centroid += to_eigen(mesh.point(w));
+        ++n;
+      }
+      if (n == 0) continue;
+      Vec3 step = 0.5 * (centroid / n - p);
+      const double length = step.norm();
+      if (length < 1e-3 * cell) continue;
+      if (length > cell) step *= cell / length;
+      const Vec3 q = p + step;
+      if (!(field.sample(q) >= level) || !guard.move_is_safe(v, q) || obstacle.blocks_move(mesh, v, q)) continue;
+      mesh.set_point(v, to_point(q));
+      largest = std::max(largest, step.norm());
+      ++moves;
+    }
+    if (largest < 0.01 * cell) break;
+  }
+  return moves;
+}
+
 }  // namespace
 
 std::string WrapEstimate::text() const {
@@ -341,11 +391,18 @@ WrapResult shrink_wrap(const std::vector<Triangle>& input, const WrapOptions& w,
   const double offset = g.offset;
   const Vec3 centre = g.centre;
   const double radius = g.radius;
-  const Volume field = distance_field(input, g.field_lo, g.field_hi, g.field, w.field_progress);
-  if (field.voxel_count() == 0) throw Error("cancelled");
-  log->push_back("distance field: " + std::to_string(field.dims()[0]) + " x " + std::to_string(field.dims()[1]) +
-                 " x " + std::to_string(field.dims()[2]) + " cells of " + fmt(w.cell_size) + " mm; the wrap settles " +
+  const Volume distance = distance_field(input, g.field_lo, g.field_hi, g.field, w.field_progress);
+  if (distance.voxel_count() == 0) throw Error("cancelled");
+  log->push_back("distance field: " + std::to_string(distance.dims()[0]) + " x " + std::to_string(distance.dims()[1]) +
+                 " x " + std::to_string(distance.dims()[2]) + " cells of " + fmt(w.cell_size) + " mm; the wrap settles " +
                  fmt(offset) + " mm from the input");
+  // Bridging: the wrap settles on the field of balls of diameter `bridge`
+  // rolled in from outside, which spans the openings they cannot pass.
+  const bool bridging = w.bridge > 0.0;
+  Volume bridged = bridging ? bridged_distance_field(distance, offset, 0.5 * w.bridge) : Volume();
+  if (bridging)
+    log->push_back("bridging: openings balls of " + fmt(w.bridge) + " mm cannot pass are capped");
+  const Volume& field = bridging ? bridged : distance;
 
   // A geodesic sphere whose faces are about the level of detail.
   const double sphere_area = 4.0 * M_PI * radius * radius;
@@ -391,6 +448,16 @@ WrapResult shrink_wrap(const std::vector<Triangle>& input, const WrapOptions& w,
     const int cycle = w.max_cycles - cycles_left;  // new vertices' generation: the cycle they appear after
     const std::size_t splits = refine_near(mesh, far, 0.5 * w.cell_size, 2, cycle);
     if (splits == 0) break;
+    if (bridging) {
+      // A cap that hides input opens around it, down to the input.
+      std::vector<Vec3> points;
+      std::vector<double> radii;
+      for (const auto& p : far) {
+        points.push_back(p.point);
+        radii.push_back(p.distance + 2.0 * w.cell_size);
+      }
+      reopen_field(bridged, distance, points, radii);
+    }
     out.coverage_rounds_done = round;
     DeformOptions again = o;
     again.global_refinements = 0;
@@ -421,6 +488,22 @@ WrapResult shrink_wrap(const std::vector<Triangle>& input, const WrapOptions& w,
                    std::to_string(r.rejected_moves) + " moves vetoed); now the farthest is " + fmt(input_to_wrap) +
                    " mm");
     if (input_to_wrap > before - 0.05 * w.cell_size) break;  // no gain: a crevice the field does not resolve
+  }
+
+  // No pyramids: the vertices the field does not hold are faired.
+  if (w.fairing) {
+    std::size_t free = 0;
+    const std::size_t moves = fair_unsupported(mesh, field, offset, w.cell_size, obstacle, 30, &free);
+    if (free > 0) {
+      const FloatSnapResult snap = snap_to_float(mesh);
+      log->push_back("fairing: " + std::to_string(free) + " vertices over free space (holes) smoothed, " +
+                     std::to_string(moves) + " moves");
+      if (snap.refused > 0)
+        log->push_back("warning: " + std::to_string(snap.refused) +
+                       " vertices could not be moved to float precision without a self-intersection");
+      input_to_wrap = 0.0;
+      far_input(input, mesh, refine_beyond, &input_to_wrap);
+    }
   }
 
   const MeshReport report = measure(mesh);

@@ -771,7 +771,7 @@ std::vector<gdm::Triangle> triangles(py::handle vertices, py::handle faces) {
 
 gdm::WrapOptions wrap_options(double tolerance, py::handle cell_size, int coverage_rounds, double a0, double a1,
                               double a2, double lod_face_area, int global_refinements, int max_cycles, int threads,
-                              double time_limit, double memory_limit) {
+                              double time_limit, double memory_limit, double bridge) {
   gdm::WrapOptions o;
   if (!(tolerance > 0.0) || !std::isfinite(tolerance))
     throw gdm::InvalidOption("tolerance", "tolerance must be > 0 (mm), got " + std::to_string(tolerance));
@@ -790,14 +790,16 @@ gdm::WrapOptions wrap_options(double tolerance, py::handle cell_size, int covera
   o.threads = threads;
   o.time_limit = time_limit;
   o.memory_limit = memory_limit;
+  o.bridge = bridge;
   return o;
 }
 
 py::dict estimate_wrap(py::handle vertices, py::handle faces, double tolerance, py::handle cell_size,
                        int coverage_rounds, double a0, double a1, double a2, double lod_face_area,
-                       int global_refinements, int max_cycles, int threads, double time_limit, double memory_limit) {
+                       int global_refinements, int max_cycles, int threads, double time_limit, double memory_limit,
+                       double bridge) {
   const gdm::WrapOptions o = wrap_options(tolerance, cell_size, coverage_rounds, a0, a1, a2, lod_face_area,
-                                          global_refinements, max_cycles, threads, time_limit, memory_limit);
+                                          global_refinements, max_cycles, threads, time_limit, memory_limit, bridge);
   const std::vector<gdm::Triangle> input = triangles(vertices, faces);
   gdm::WrapEstimate e;
   {
@@ -809,11 +811,11 @@ py::dict estimate_wrap(py::handle vertices, py::handle faces, double tolerance, 
 
 py::dict wrap(py::handle vertices, py::handle faces, double tolerance, py::handle cell_size, int coverage_rounds,
               double a0, double a1, double a2, double lod_face_area, int global_refinements, int max_cycles,
-              int threads, double time_limit, double memory_limit, py::object progress) {
+              int threads, double time_limit, double memory_limit, double bridge, py::object progress) {
   if (!progress.is_none() && !PyCallable_Check(progress.ptr()))
     raise_type_error("progress must be callable (cycle, faces, moving) -> bool or None, got " + repr_of(progress));
   const gdm::WrapOptions o = wrap_options(tolerance, cell_size, coverage_rounds, a0, a1, a2, lod_face_area,
-                                          global_refinements, max_cycles, threads, time_limit, memory_limit);
+                                          global_refinements, max_cycles, threads, time_limit, memory_limit, bridge);
   const std::vector<gdm::Triangle> input = triangles(vertices, faces);
   Observer observer(progress);
   gdm::WrapResult r;
@@ -1021,11 +1023,11 @@ PYBIND11_MODULE(_gdm, m) {
   m.def("wrap", &wrap, py::arg("vertices"), py::arg("faces"), py::arg("tolerance"), py::arg("cell_size"),
         py::arg("coverage_rounds"), py::arg("a0"), py::arg("a1"), py::arg("a2"), py::arg("lod_face_area"),
         py::arg("global_refinements"), py::arg("max_cycles"), py::arg("threads"), py::arg("time_limit"),
-        py::arg("memory_limit"), py::arg("progress"));
+        py::arg("memory_limit"), py::arg("bridge"), py::arg("progress"));
   m.def("estimate_wrap", &estimate_wrap, py::arg("vertices"), py::arg("faces"), py::arg("tolerance"),
         py::arg("cell_size"), py::arg("coverage_rounds"), py::arg("a0"), py::arg("a1"), py::arg("a2"),
         py::arg("lod_face_area"), py::arg("global_refinements"), py::arg("max_cycles"), py::arg("threads"),
-        py::arg("time_limit"), py::arg("memory_limit"));
+        py::arg("time_limit"), py::arg("memory_limit"), py::arg("bridge"));
   m.def("write_mesh", &write_mesh, py::arg("path"), py::arg("vertices"), py::arg("faces"), py::arg("generation"));
   m.def("read_mesh", &read_mesh, py::arg("path"));
   m.def("option_catalogue", &option_catalogue);

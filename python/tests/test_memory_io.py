@@ -101,6 +101,9 @@ def test_wrap_a_soup_with_a_hole():
     m = r.report["mesh"]
     assert m["closed"] and m["manifold"] and m["genus"] == 0 and m["self_intersections"] == 0
     assert r.report["farthest_input_distance_mm"] <= 1.5
+    capped = gdm.wrap(vertices, open_faces, tolerance=1.5, bridge=12)  # the hole capped smoothly
+    m = capped.report["mesh"]
+    assert m["closed"] and m["manifold"] and m["genus"] == 0 and m["self_intersections"] == 0
     with pytest.raises(gdm.InvalidOption, match="tolerance"):
         gdm.wrap(vertices, faces, tolerance=0)
     with pytest.raises(gdm.InvalidOption, match="cell_size"):

@@ -16,16 +16,8 @@ struct DistanceFieldOptions {
   double cell_size = 1.0;  // grid spacing, mm (> 0)
   double offset = 1.0;     // the wrap settles on the surface at this distance from the input, mm (> 0)
   double padding = 0.0;    // extra room around `lo`..`hi`, mm (the seed sphere must fit)
-  double closing = 0.0;    // radius of balls rolled in from outside, mm (>= 0; 0 = none): openings a ball
-                           // cannot pass are spanned by the balls' smooth envelope
 };
 
-// With `closing` = r > 0 the free space is what balls of radius r reach from
-// the grid's border without coming within `offset` of the input (centres
-// flood-filled from the border, then an exact Euclidean distance transform of
-// the grid): the value is offset + r - the distance to the nearest reachable
-// centre, so the wrap settles on the balls' envelope, which spans holes and
-// cavity openings the balls cannot pass instead of sinking into them.
 // The grid covers [lo - padding, hi + padding] plus two cells on each side.
 // Values are the unsigned distance to the nearest triangle, clamped at
 // offset + 3 cells (the far field only needs to be "free"). The object is
@@ -45,6 +37,25 @@ struct DistanceFieldSize {
   double cells = 0.0;        // dims[0] * dims[1] * dims[2]
   double evaluations = 0.0;  // point-triangle distances
 };
+// The wrap's field with bridging: `distance` (distance_field's output) where
+// the input is within reach, and over openings that balls of radius `radius`
+// coming from outside cannot pass (holes, the mouths of cavities) the balls'
+// envelope, a smooth cap. The free space is the union of those balls: their
+// centres are the cells farther than offset + radius from the input (an exact
+// Euclidean distance transform of the grid from the cells within a cell of
+// the input) that a flood fill from the grid's border reaches (the grid must
+// reach offset + radius beyond the input: shrink_wrap pads it); the value is
+// offset + radius + cell - (distance to the nearest reachable centre), and
+// the result is the smaller of that and `distance`, so the wrap never stops
+// farther from the input than the offset where balls do reach.
+Volume bridged_distance_field(const Volume& distance, double offset, double radius);
+
+// Reopens `field` (from bridged_distance_field) to `distance` within
+// `radii[k]` of `points[k]`: the coverage rounds let the wrap down to input a
+// cap hid.
+void reopen_field(Volume& field, const Volume& distance, const std::vector<Vec3>& points,
+                  const std::vector<double>& radii);
+
 DistanceFieldSize distance_field_size(const std::vector<Triangle>& triangles, const Vec3& lo, const Vec3& hi,
                                       const DistanceFieldOptions& options);
 

@@ -32,6 +32,10 @@ struct WrapOptions {
                                  // are spanned by a smooth cap, the envelope of a ball of diameter `bridge`
                                  // rolled over the offset surface, instead of the wrap sinking into them; mm,
                                  // >= 0, 0 = off. Input under a cap may end farther than the tolerance
+  bool fairing = true;           // after the deformation, smooth the vertices the field does not hold (over
+                                 // holes, where the model's pressure leaves them standing an edge's height
+                                 // off their neighbours: "pyramids"); they move toward their neighbours'
+                                 // centroid, each move checked by the guard and against the input
   int coverage_rounds = 4;       // local refinement rounds while input lies beyond 90% of the tolerance
                                  // after the convergence (0 = off, >= 0)
   // The model (gdm::DeformOptions, Table 2 and section 6):
