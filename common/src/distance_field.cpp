@@ -22,9 +22,10 @@ struct Grid {
   void box_of(const Triangle& tri, int a[3], int b[3]) const {
     const Vec3 tlo = tri[0].cwiseMin(tri[1]).cwiseMin(tri[2]) - Vec3::Constant(cap);
     const Vec3 thi = tri[0].cwiseMax(tri[1]).cwiseMax(tri[2]) + Vec3::Constant(cap);
-    for (int i = 0; i < 3; ++i) {
-      a[i] = std::max(0, static_cast<int>(std::floor((tlo[i] - origin[i]) / h)));
-      b[i] = std::min(dims[i] - 1, static_cast<int>(std::ceil((thi[i] - origin[i]) / h)));
+    for (int i = 0; i < 3; ++i) {  // clamped as doubles: no int overflow for absurdly small cells
+      const double top = dims[i] - 1;
+      a[i] = static_cast<int>(std::clamp(std::floor((tlo[i] - origin[i]) / h), 0.0, top + 1.0));
+      b[i] = static_cast<int>(std::clamp(std::ceil((thi[i] - origin[i]) / h), -1.0, top));
     }
   }
 };
