@@ -86,15 +86,22 @@ TEST(ShrinkWrap, point_cloud_of_degenerate_triangles) {
 }
 
 TEST(ShrinkWrap, same_wrap_for_any_thread_count) {
-  const auto input = sphere_soup(gdm::Vec3(0, 0, 0), 4.0, 2);
-  gdm::WrapOptions one = options(0.5, 1.5), two = one;
-  one.threads = 1;
-  two.threads = 2;
-  const gdm::WrapResult a = gdm::shrink_wrap(input, one), b = gdm::shrink_wrap(input, two);
-  ASSERT_EQ(a.mesh.n_vertices(), b.mesh.n_vertices());
-  for (std::size_t i = 0; i < a.mesh.n_vertices(); ++i)
-    EXPECT_EQ(a.mesh.point(gdm::Mesh::VertexHandle(static_cast<int>(i))),
-              b.mesh.point(gdm::Mesh::VertexHandle(static_cast<int>(i))));
+  // A closed sphere, and a holed one with a bridge (the bridged field, the
+  // reopening and the fairing are in play).
+  std::vector<gdm::Triangle> holed;
+  for (const auto& t : sphere_soup(gdm::Vec3(0, 0, 0), 5.0, 3))
+    if ((t[0] + t[1] + t[2]).z() / 3.0 < 3.0) holed.push_back(t);
+  for (const auto& input : {sphere_soup(gdm::Vec3(0, 0, 0), 4.0, 2), holed}) {
+    gdm::WrapOptions one = options(0.5, 1.5), two = one;
+    one.bridge = two.bridge = input.size() == holed.size() ? 10.0 : 0.0;
+    one.threads = 1;
+    two.threads = 2;
+    const gdm::WrapResult a = gdm::shrink_wrap(input, one), b = gdm::shrink_wrap(input, two);
+    ASSERT_EQ(a.mesh.n_vertices(), b.mesh.n_vertices());
+    for (std::size_t i = 0; i < a.mesh.n_vertices(); ++i)
+      EXPECT_EQ(a.mesh.point(gdm::Mesh::VertexHandle(static_cast<int>(i))),
+                b.mesh.point(gdm::Mesh::VertexHandle(static_cast<int>(i))));
+  }
 }
 
 void expect_refused(const std::vector<gdm::Triangle>& input, const gdm::WrapOptions& o, const std::string& names) {
