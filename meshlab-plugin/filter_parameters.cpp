@@ -96,7 +96,9 @@ std::vector<FilterParam> make(Filter filter) {
                     0.02),
               option("lod_face_area", "cell^2"), wrap_refinements(),
               param("bridge", ParamKind::real, "Bridge (mm)",
-                    "Openings up to about this wide get a smooth cap instead of the wrap sinking in; 0 = off.", 0.0),
+                    "Holes up to about this wide get a smooth cap instead of the wrap sinking in (e.g. 10 x the "
+                    "tolerance); 0 = off.",
+                    gdm::WrapOptions{}.bridge),
               param("time_limit", ParamKind::real, "Time limit (s)",
                     "Refuse at once a wrap estimated to take longer (the log gives the estimate); 0 = no limit.",
                     gdm::WrapOptions{}.time_limit),

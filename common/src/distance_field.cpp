@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
+#include <utility>
 
 #include "gdm/errors.h"
 
@@ -164,7 +166,8 @@ Volume distance_field(const std::vector<Triangle>& triangles, const Vec3& lo, co
   return gdm::Volume(dims, std::move(values), gdm::Vec3::Constant(g.h), g.origin);
 }
 
-Volume bridged_distance_field(const Volume& distance, double offset, double radius) {
+Volume bridged_distance_field(const Volume& distance, double offset, double radius, const std::vector<Vec3>& input,
+                              double hidden_depth, std::size_t* reopened) {
   const Index3 dims = distance.dims();
   const double h = distance.voxel_size();
   const std::vector<float>& dist = distance.values();
@@ -179,7 +182,7 @@ Volume bridged_distance_field(const Volume& distance, double offset, double radi
   const double centre_sq = std::pow((offset + radius) / h, 2.0);
   // Reachable centres: a flood fill (6-neighbours) from the border cells.
   std::vector<unsigned char> reached(n, 0);
-  std::vector<std::size_t> queue;
+  std::vector<std::uint32_t> queue;  // cell indices (the grid is below 2^32 cells)
   const auto is_border = [&](int i, int j, int k) {
     return i == 0 || j == 0 || k == 0 || i == dims[0] - 1 || j == dims[1] - 1 || k == dims[2] - 1;
   };
@@ -190,7 +193,7 @@ Volume bridged_distance_field(const Volume& distance, double offset, double radi
           const std::size_t c = i + sy * j + sz * k;
           if (sq[c] <= centre_sq) continue;  // a ball there would touch the input
           reached[c] = 1;
-          queue.push_back(c);
+          queue.push_back(static_cast<std::uint32_t>(c));
         }
   for (std::size_t q = 0; q < queue.size(); ++q) {
     const std::size_t c = queue[q];
@@ -198,7 +201,7 @@ Volume bridged_distance_field(const Volume& distance, double offset, double radi
     const auto visit = [&](std::size_t e) {
       if (!reached[e] && sq[e] > centre_sq) {
         reached[e] = 1;
-        queue.push_back(e);
+        queue.push_back(static_cast<std::uint32_t>(e));
       }
     };
     if (i > 0) visit(c - 1);
@@ -208,11 +211,55 @@ Volume bridged_distance_field(const Volume& distance, double offset, double radi
     if (k > 0) visit(c - sz);
     if (k + 1 < dims[2]) visit(c + sz);
   }
-  std::vector<std::size_t>().swap(queue);
+  std::vector<std::uint32_t>().swap(queue);
   // Distance to the nearest reachable centre, then the balls' field.
   for (std::size_t c = 0; c < n; ++c) sq[c] = reached[c] ? 0.0f : static_cast<float>(big);
   std::vector<unsigned char>().swap(reached);
   squared_edt(sq, dims, big);
+  // Input the balls' envelope would hide deeper than hidden_depth: the field
+  // is reopened (no bridging) within its depth, the offset and two cells of
+  // it, deepest first; a point already in a reopened ball is skipped.
+  if (reopened) *reopened = 0;
+  if (hidden_depth > 0.0 && !input.empty()) {
+    const auto cell_index = [&](const Vec3& p, int i) {
+      const double x = std::round((p[i] - distance.origin()[i]) / h);
+      return static_cast<int>(std::clamp(x, 0.0, static_cast<double>(dims[i] - 1)));
+    };
+    const auto index_of = [&](const Vec3& p) {
+      return static_cast<std::size_t>(cell_index(p, 0)) + sy * cell_index(p, 1) + sz * cell_index(p, 2);
+    };
+    std::vector<std::pair<double, std::size_t>> hidden;  // depth, input point
+    for (std::size_t k = 0; k < input.size(); ++k) {
+      const double depth = h * std::sqrt(static_cast<double>(sq[index_of(input[k])])) - (radius + h);
+      if (depth > hidden_depth) hidden.emplace_back(depth, k);
+    }
+    std::sort(hidden.begin(), hidden.end(), [](const auto& a, const auto& b) {
+      return a.first > b.first || (a.first == b.first && a.second < b.second);
+    });
+    std::vector<unsigned char> open(n, 0);
+    for (const auto& [depth, k] : hidden) {
+      const Vec3& p = input[k];
+      if (open[index_of(p)]) continue;
+      ++*reopened;
+      const double r = (depth + offset + 2.0 * h) / h;
+      int a[3], b[3];
+      double c[3];
+      for (int i = 0; i < 3; ++i) {
+        c[i] = (p[i] - distance.origin()[i]) / h;
+        a[i] = static_cast<int>(std::clamp(std::floor(c[i] - r), 0.0, static_cast<double>(dims[i] - 1)));
+        b[i] = static_cast<int>(std::clamp(std::ceil(c[i] + r), 0.0, static_cast<double>(dims[i] - 1)));
+      }
+      for (int z = a[2]; z <= b[2]; ++z)
+        for (int y = a[1]; y <= b[1]; ++y)
+          for (int x = a[0]; x <= b[0]; ++x) {
+            const double d2 = (x - c[0]) * (x - c[0]) + (y - c[1]) * (y - c[1]) + (z - c[2]) * (z - c[2]);
+            if (d2 > r * r) continue;
+            const std::size_t e = x + sy * y + sz * z;
+            sq[e] = 0.0f;  // free as far as the balls go: the plain distance decides
+            open[e] = 1;
+          }
+    }
+  }
   const double top = offset + radius + h;
   for (std::size_t c = 0; c < n; ++c)
     sq[c] = std::min(dist[c], static_cast<float>(top - h * std::sqrt(static_cast<double>(sq[c]))));

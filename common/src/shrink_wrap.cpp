@@ -80,6 +80,9 @@ void validate(const std::vector<Triangle>& input, const WrapOptions& w) {
     for (const auto& p : t) require(p.allFinite(), "the input has a non-finite coordinate");
 }
 
+// The bridge in mm (0 = off).
+double bridge_of(const WrapOptions& w) { return w.bridge; }
+
 // Where the wrap works: the input's box, the offset it settles at, the seed
 // sphere around the input and the distance field's grid over that sphere.
 struct WrapGeometry {
@@ -114,7 +117,7 @@ WrapGeometry geometry_of(const std::vector<Triangle>& input, const WrapOptions& 
   g.field_hi = g.centre + Vec3::Constant(g.radius);
   // Bridging rolls balls of diameter `bridge` in from the grid's border: the
   // grid reaches a ball's radius beyond the input's offset.
-  g.field.padding = w.cell_size + (w.bridge > 0.0 ? 0.5 * w.bridge + g.offset : 0.0);
+  g.field.padding = w.cell_size + (bridge_of(w) > 0.0 ? 0.5 * bridge_of(w) + g.offset : 0.0);
   return g;
 }
 
@@ -146,9 +149,8 @@ WrapGeometry geometry_of(const std::vector<Triangle>& input, const WrapOptions& 
 constexpr double kOccupancyCellsPerDiagonal = 50.0;
 constexpr double kAreaPerOccupiedCell = 1.2;
 constexpr double kFaceAreaPerLod = 0.23;
-constexpr double kBridgeFaceFactor = 2.0;       // a bridged wrap: the coverage rounds reopen its caps over
-                                                // hidden input (faces x1.25 to x2.3 measured, e.g. the
-                                                // tooth at 1.67 / 3.34 with a 33 mm bridge: 29,748 faces)
+constexpr double kBridgeFaceFactor = 1.15;      // bridged (10 x the tolerance): faces x1.0 to x1.27 measured
+                                                // on the inputs above (the tooth at 1.67 / 3.34: 14,770)
 constexpr double kCyclesPerRadiusCell = 2.0;    // cycles per seed-sphere radius in cells, plus kBaseCycles
 constexpr double kBaseCycles = 20.0;
 constexpr double kSecondsPerFaceCycle = 3.0e-6;
@@ -156,6 +158,7 @@ constexpr double kSecondsPerDistance = 5.0e-8;  // per point-triangle distance o
 constexpr double kSecondsPerCell = 3.0e-9;      // per grid cell (allocation and fill)
 constexpr double kBaseBytes = 16.0 * 1048576.0;
 constexpr double kBytesPerCell = 4.0;           // the field is float
+constexpr double kBytesPerCellBridged = 13.0;   // and the bridged field, the flood fill's mark and queue
 constexpr double kBytesPerFace = 1000.0;        // the wrap, its guard grid and per-vertex state
 constexpr double kBytesPerInputTriangle = 300.0;  // the input as an obstacle and a locator
 
@@ -187,13 +190,13 @@ WrapEstimate estimate_with(const std::vector<Triangle>& input, const WrapOptions
   e.area = kAreaPerOccupiedCell * occupied;
   const double refinements = std::pow(4.0, w.global_refinements);
   e.faces = refinements * e.area / (kFaceAreaPerLod * w.lod_face_area * w.cell_size * w.cell_size) *
-            (w.bridge > 0.0 ? kBridgeFaceFactor : 1.0);
+            (bridge_of(w) > 0.0 ? kBridgeFaceFactor : 1.0);
   e.cycles = std::min<double>(w.max_cycles, kBaseCycles * (1 + w.global_refinements) +
                                                 kCyclesPerRadiusCell * g.radius / w.cell_size);
   e.seconds = kSecondsPerFaceCycle * e.faces * e.cycles + kSecondsPerDistance * field.evaluations +
               kSecondsPerCell * field.cells;
-  // Bridging keeps a second float grid and a byte per cell while it builds it.
-  e.bytes = kBaseBytes + (w.bridge > 0.0 ? 2.0 * kBytesPerCell + 1.0 : kBytesPerCell) * field.cells + kBytesPerFace * e.faces +
+  // Bridging keeps a second float grid, a byte and a 4-byte queue entry per cell while it builds it.
+  e.bytes = kBaseBytes + (bridge_of(w) > 0.0 ? kBytesPerCellBridged : kBytesPerCell) * field.cells + kBytesPerFace * e.faces +
             kBytesPerInputTriangle * static_cast<double>(input.size());
   return e;
 }
@@ -407,10 +410,22 @@ WrapResult shrink_wrap(const std::vector<Triangle>& input, const WrapOptions& w,
                  fmt(offset) + " mm from the input");
   // Bridging: the wrap settles on the field of balls of diameter `bridge`
   // rolled in from outside, which spans the openings they cannot pass.
-  const bool bridging = w.bridge > 0.0;
-  Volume bridged = bridging ? bridged_distance_field(distance, offset, 0.5 * w.bridge) : Volume();
+  const double bridge = bridge_of(w);
+  const bool bridging = bridge > 0.0;
+  // Input a cap would hide more than 3/4 of the tolerance deep is reopened up
+  // front: only openings with no input under them (holes) stay capped.
+  std::vector<Vec3> corners;
   if (bridging)
-    log->push_back("bridging: openings balls of " + fmt(w.bridge) + " mm cannot pass are capped");
+    for (const auto& t : input)
+      for (const auto& p : t) corners.push_back(p);
+  std::size_t reopened = 0;
+  Volume bridged =
+      bridging ? bridged_distance_field(distance, offset, 0.5 * bridge, corners, 0.75 * w.tolerance, &reopened)
+               : Volume();
+  std::vector<Vec3>().swap(corners);
+  if (bridging)
+    log->push_back("bridging: openings balls of " + fmt(bridge) + " mm cannot pass are capped, but " +
+                   std::to_string(reopened) + " regions over input the caps would hide");
   const Volume& field = bridging ? bridged : distance;
 
   // A geodesic sphere whose faces are about the level of detail.

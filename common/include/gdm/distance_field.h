@@ -48,7 +48,13 @@ struct DistanceFieldSize {
 // offset + radius + cell - (distance to the nearest reachable centre), and
 // the result is the smaller of that and `distance`, so the wrap never stops
 // farther from the input than the offset where balls do reach.
-Volume bridged_distance_field(const Volume& distance, double offset, double radius);
+// Input points (`input`) the envelope would hide deeper than `hidden_depth`
+// (mm; 0 = none) get no cap: within their depth plus the offset and two cells
+// the plain distance decides (a cavity whose walls are input is entered,
+// only true holes are capped); `reopened` gets the number of such regions.
+Volume bridged_distance_field(const Volume& distance, double offset, double radius,
+                              const std::vector<Vec3>& input = {}, double hidden_depth = 0.0,
+                              std::size_t* reopened = nullptr);
 
 // Reopens `field` (from bridged_distance_field) to `distance` within
 // `radii[k]` of `points[k]`: the coverage rounds let the wrap down to input a

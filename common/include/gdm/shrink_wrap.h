@@ -28,10 +28,11 @@ struct WrapOptions {
   double cell_size = 1.0;        // distance-field grid spacing, mm (> 0)
   double tolerance = 2.0;        // wanted largest distance of the input from the wrap, mm (>= cell_size);
                                  // the wrap settles tolerance / 3 from the input
-  double bridge = 0.0;           // openings of the input up to about this wide (holes, gaps, narrow cavities)
-                                 // are spanned by a smooth cap, the envelope of a ball of diameter `bridge`
-                                 // rolled over the offset surface, instead of the wrap sinking into them; mm,
-                                 // >= 0, 0 = off. Input under a cap may end farther than the tolerance
+  double bridge = 0.0;           // openings of the input up to about this wide with no input under them
+                                 // (holes) are spanned by a smooth cap, the envelope of balls of diameter
+                                 // `bridge` rolled in from outside, instead of the wrap sinking into them
+                                 // (input a cap would hide is reopened: a cavity whose walls are input is
+                                 // still entered); mm, >= 0; 0 = off (e.g. 10 x the tolerance caps holes)
   bool fairing = true;           // after the deformation, smooth the vertices the field does not hold (over
                                  // holes, where the model's pressure leaves them standing an edge's height
                                  // off their neighbours: "pyramids"); they move toward their neighbours'
