@@ -343,6 +343,8 @@ std::size_t refine_near(gdm::Mesh& mesh, const std::vector<FarPoint>& points, do
 // any thread count), a cell at most per pass, while it stays out of the
 // object region, the guard and the obstacle accept it; the vertices the field
 // holds stay. Returns the moves made; `free_count` gets the vertices faired.
+// (shrink_wrap undoes the fairing when it takes input farther from the wrap
+// than 90% of the tolerance and than before.)
 std::size_t fair_unsupported(Mesh& mesh, const Volume& field, double level, double cell, const Obstacle& obstacle,
                              int passes, std::size_t* free_count) {
   std::vector<Mesh::VertexHandle> free;
@@ -516,17 +518,25 @@ WrapResult shrink_wrap(const std::vector<Triangle>& input, const WrapOptions& w,
 
   // No pyramids: the vertices the field does not hold are faired.
   if (w.fairing) {
+    std::vector<Mesh::Point> before;  // undone when it takes input away from the wrap
+    for (auto v : mesh.vertices()) before.push_back(mesh.point(v));
     std::size_t free = 0;
     const std::size_t moves = fair_unsupported(mesh, field, offset, w.cell_size, obstacle, 30, &free);
-    if (free > 0) {
+    if (moves > 0) {
       const FloatSnapResult snap = snap_to_float(mesh);
-      log->push_back("fairing: " + std::to_string(free) + " vertices over free space (holes) smoothed, " +
-                     std::to_string(moves) + " moves");
-      if (snap.refused > 0)
-        log->push_back("warning: " + std::to_string(snap.refused) +
-                       " vertices could not be moved to float precision without a self-intersection");
-      input_to_wrap = 0.0;
-      far_input(input, mesh, refine_beyond, &input_to_wrap);
+      double faired = 0.0;
+      far_input(input, mesh, refine_beyond, &faired);
+      if (faired > input_to_wrap && faired > aim) {
+        for (auto v : mesh.vertices()) mesh.set_point(v, before[static_cast<std::size_t>(v.idx())]);
+        log->push_back("fairing undone: it took input to " + fmt(faired) + " mm from the wrap");
+      } else {
+        input_to_wrap = faired;
+        log->push_back("fairing: " + std::to_string(free) + " vertices over free space (holes) smoothed, " +
+                       std::to_string(moves) + " moves");
+        if (snap.refused > 0)
+          log->push_back("warning: " + std::to_string(snap.refused) +
+                         " vertices could not be moved to float precision without a self-intersection");
+      }
     }
   }
 
