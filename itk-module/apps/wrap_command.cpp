@@ -34,7 +34,7 @@ const char* const kUsage =
     "  --cell-size C            distance-field cell, mm (<= D; default D / 3)\n"
     "  --bridge W               cap openings up to about W mm wide with no input under them (holes)\n"
     "                           smoothly, the envelope of balls of diameter W, instead of sinking into\n"
-    "                           them (mm; default 0 = off; 10 x D caps most scan holes)\n"
+    "                           them (mm; default 0 = off; e.g. 10 x D)\n"
     "  --coverage-rounds N      refinement rounds where IN lies beyond 90% of D (default 4, 0 = off)\n"
     "  --time-limit S           refuse, before starting, a wrap estimated to take longer (s; default 180,\n"
     "                           0 = no limit)\n"

@@ -189,7 +189,7 @@ def wrap(vertices, faces, tolerance, cell_size=None, *, coverage_rounds=4, a0=1.
     time_limit (s), memory_limit (GiB): a wrap whose estimate (estimate_wrap)
     exceeds either is refused at once with gdm.WrapTooCostly (an
     InvalidOption); 0 = no limit.
-    bridge (mm; 0 = off; 10 x tolerance caps most scan holes): openings up
+    bridge (mm; 0 = off; e.g. 10 x tolerance): openings up
     to about this wide with no input under them (holes) get a smooth cap (the
     envelope of balls of that diameter) instead of the wrap sinking in.
     Returns a gdm.Result; report has farthest_input_distance_mm and friends."""

@@ -32,7 +32,7 @@ struct WrapOptions {
                                  // (holes) are spanned by a smooth cap, the envelope of balls of diameter
                                  // `bridge` rolled in from outside, instead of the wrap sinking into them
                                  // (input a cap would hide is reopened: a cavity whose walls are input is
-                                 // still entered); mm, >= 0; 0 = off (e.g. 10 x the tolerance caps holes)
+                                 // still entered); mm, >= 0; 0 = off (e.g. 10 x the tolerance)
   bool fairing = true;           // after the deformation, smooth the vertices the field does not hold (over
                                  // holes, where the model's pressure leaves them standing an edge's height
                                  // off their neighbours: "pyramids"); they move toward their neighbours'
