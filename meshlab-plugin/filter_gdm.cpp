@@ -297,6 +297,9 @@ bool FilterGdmPlugin::applyFilter(QAction *action, MeshDocument &md, const RichP
 			w.lod_face_area = m.deform.lod_face_area;
 			w.global_refinements = m.deform.global_refinements;
 			w.max_cycles = m.deform.max_cycles;
+			w.bridge = par.getFloat("bridge");
+			w.time_limit = par.getFloat("time_limit");
+			w.memory_limit = par.getFloat("memory_limit");
 			const gdm::Mesh mesh =
 				gdm_meshlab::shrink_wrap(gdm_meshlab::triangle_soup(current->cm), w, progress, &log);
 			flushLog();

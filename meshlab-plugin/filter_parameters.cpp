@@ -7,6 +7,7 @@
 
 #include "gdm/errors.h"
 #include "gdm/option_catalogue.h"
+#include "gdm/shrink_wrap.h"
 #include "gdm/text.h"
 
 namespace gdm_meshlab {
@@ -95,6 +96,16 @@ std::vector<FilterParam> make(Filter filter) {
                     "Largest distance of the layer from the wrap, at least the cell size. Default: 2% of the diagonal.",
                     0.02),
               option("lod_face_area", "cell^2"), wrap_refinements(),
+              param("bridge", ParamKind::real, "Bridge (mm)",
+                    "Holes up to about this wide get a smooth cap instead of the wrap sinking in (e.g. 10 x the "
+                    "tolerance); 0 = off.",
+                    gdm::WrapOptions{}.bridge),
+              param("time_limit", ParamKind::real, "Time limit (s)",
+                    "Refuse at once a wrap estimated to take longer (the log gives the estimate); 0 = no limit.",
+                    gdm::WrapOptions{}.time_limit),
+              param("memory_limit", ParamKind::real, "Memory limit (GiB)",
+                    "Refuse at once a wrap estimated to need more memory; 0 = no limit.",
+                    gdm::WrapOptions{}.memory_limit),
               param("more_options", ParamKind::text, "More options",
                     "Other options as name=value pairs: a0, a1, a2, max_cycles, threads.")});
       break;

@@ -120,6 +120,7 @@ gdm::Mesh shrink_wrap(const std::vector<gdm::Triangle>& soup, gdm::WrapOptions w
       return progress(90 + (r.stage - refinements), "Covering the input");  // coverage round r.stage - refinements
     };
   }
+  log->push_back("estimate: " + gdm::estimate_wrap(soup, w).text());
   gdm::WrapResult r = gdm::shrink_wrap(soup, w, observer);
   log->insert(log->end(), r.notes.begin(), r.notes.end());
   return std::move(r.mesh);

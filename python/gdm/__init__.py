@@ -30,12 +30,13 @@ from dataclasses import dataclass as _dataclass, field as _field
 import numpy as _np
 
 from . import _gdm
-from ._gdm import (Error, InvalidOption, InvalidVolume, InvalidSeed, InvalidInput, ModelFailed, Cancelled)
+from ._gdm import (Error, InvalidOption, InvalidVolume, InvalidSeed, InvalidInput, ModelFailed, Cancelled,
+                   WrapTooCostly)
 
 __version__ = _gdm.__version__
-__all__ = ["extract_surface", "read_image", "write_mesh", "read_mesh", "wrap", "options", "from_affine",
+__all__ = ["extract_surface", "read_image", "write_mesh", "read_mesh", "wrap", "estimate_wrap", "options", "from_affine",
            "Result", "Error", "InvalidOption", "InvalidVolume", "InvalidSeed", "InvalidInput", "ModelFailed",
-           "Cancelled"]
+           "Cancelled", "WrapTooCostly"]
 
 
 @_dataclass(eq=False)
@@ -179,15 +180,33 @@ def read_mesh(path):
 
 
 def wrap(vertices, faces, tolerance, cell_size=None, *, coverage_rounds=4, a0=1.0, a1=1.0, a2=5.0,
-         lod_face_area=10.0, global_refinements=1, max_cycles=2000, threads=0, progress=None):
+         lod_face_area=10.0, global_refinements=0, max_cycles=2000, threads=0, time_limit=180.0,
+         memory_limit=2.0, bridge=0.0, progress=None):
     """Shrink-wraps a triangle soup (holes, several pieces, noise):
     a closed, genus-0, self-intersection-free mesh around it, at most
     `tolerance` mm from the input (gdm::shrink_wrap, the `gdm wrap` command).
     cell_size: the distance field's cell, mm (default tolerance / 3).
+    time_limit (s), memory_limit (GiB): a wrap whose estimate (estimate_wrap)
+    exceeds either is refused at once with gdm.WrapTooCostly (an
+    InvalidOption); 0 = no limit.
+    bridge (mm; 0 = off; e.g. 10 x tolerance): openings up
+    to about this wide with no input under them (holes) get a smooth cap (the
+    envelope of balls of that diameter) instead of the wrap sinking in.
     Returns a gdm.Result; report has farthest_input_distance_mm and friends."""
     return _finish(_gdm.wrap(vertices, faces, float(tolerance), cell_size, int(coverage_rounds), float(a0),
                              float(a1), float(a2), float(lod_face_area), int(global_refinements), int(max_cycles),
-                             int(threads), progress))
+                             int(threads), float(time_limit), float(memory_limit), float(bridge), progress))
+
+
+def estimate_wrap(vertices, faces, tolerance, cell_size=None, *, coverage_rounds=4, a0=1.0, a1=1.0, a2=5.0,
+                  lod_face_area=10.0, global_refinements=0, max_cycles=2000, threads=0, time_limit=180.0,
+                  memory_limit=2.0, bridge=0.0):
+    """What gdm.wrap with the same arguments would cost, estimated in
+    milliseconds without wrapping: a dict with grid (cells per axis), cells,
+    area_mm2, faces, cycles, seconds, bytes (peak memory) and text."""
+    return _gdm.estimate_wrap(vertices, faces, float(tolerance), cell_size, int(coverage_rounds), float(a0),
+                              float(a1), float(a2), float(lod_face_area), int(global_refinements), int(max_cycles),
+                              int(threads), float(time_limit), float(memory_limit), float(bridge))
 
 
 def from_affine(affine):

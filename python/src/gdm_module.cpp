@@ -45,7 +45,8 @@ namespace {
 // Exceptions: gdm.Error and its subclasses, made here so the translator and
 // the Python half raise the same classes.
 struct Exceptions {
-  py::object error, invalid_option, invalid_volume, invalid_seed, invalid_input, model_failed, cancelled;
+  py::object error, invalid_option, invalid_volume, invalid_seed, invalid_input, model_failed, cancelled,
+      wrap_too_costly;
 };
 Exceptions& exceptions() {
   static Exceptions* e = new Exceptions();  // never destroyed: Python owns the classes past exit
@@ -80,10 +81,27 @@ void set_error(const py::object& type, const std::string& message,
   throw py::error_already_set();
 }
 
+py::dict estimate_dict(const gdm::WrapEstimate& e) {
+  py::dict d;
+  d["grid"] = py::make_tuple(e.grid[0], e.grid[1], e.grid[2]);
+  d["cells"] = e.cells;
+  d["area_mm2"] = e.area;
+  d["faces"] = e.faces;
+  d["cycles"] = e.cycles;
+  d["seconds"] = e.seconds;
+  d["bytes"] = e.bytes;
+  d["text"] = e.text();
+  return d;
+}
+
 void translate(std::exception_ptr p) {
   const Exceptions& x = exceptions();
   try {
     if (p) std::rethrow_exception(p);
+  } catch (const gdm::WrapTooCostly& e) {
+    set_error(x.wrap_too_costly, e.what(),
+              {{"option", py::str(e.option())}, {"estimate", estimate_dict(e.estimate())},
+               {"fitting_cell_size", py::float_(e.fitting_cell_size())}});
   } catch (const gdm::InvalidOption& e) {
     set_error(x.invalid_option, e.what(), {{"option", e.option().empty() ? py::object(py::none()) : py::str(e.option())}});
   } catch (const gdm::InvalidVolume& e) {
@@ -775,11 +793,9 @@ std::vector<gdm::Triangle> triangles(py::handle vertices, py::handle faces) {
   return out;
 }
 
-py::dict wrap(py::handle vertices, py::handle faces, double tolerance, py::handle cell_size, int coverage_rounds,
-              double a0, double a1, double a2, double lod_face_area, int global_refinements, int max_cycles,
-              int threads, py::object progress) {
-  if (!progress.is_none() && !PyCallable_Check(progress.ptr()))
-    raise_type_error("progress must be callable (cycle, faces, moving) -> bool or None, got " + repr_of(progress));
+gdm::WrapOptions wrap_options(double tolerance, py::handle cell_size, int coverage_rounds, double a0, double a1,
+                              double a2, double lod_face_area, int global_refinements, int max_cycles, int threads,
+                              double time_limit, double memory_limit, double bridge) {
   gdm::WrapOptions o;
   if (!(tolerance > 0.0) || !std::isfinite(tolerance))
     throw gdm::InvalidOption("tolerance", "tolerance must be > 0 (mm), got " + std::to_string(tolerance));
@@ -796,6 +812,34 @@ py::dict wrap(py::handle vertices, py::handle faces, double tolerance, py::handl
   o.global_refinements = global_refinements;
   o.max_cycles = max_cycles;
   o.threads = threads;
+  o.time_limit = time_limit;
+  o.memory_limit = memory_limit;
+  o.bridge = bridge;
+  return o;
+}
+
+py::dict estimate_wrap(py::handle vertices, py::handle faces, double tolerance, py::handle cell_size,
+                       int coverage_rounds, double a0, double a1, double a2, double lod_face_area,
+                       int global_refinements, int max_cycles, int threads, double time_limit, double memory_limit,
+                       double bridge) {
+  const gdm::WrapOptions o = wrap_options(tolerance, cell_size, coverage_rounds, a0, a1, a2, lod_face_area,
+                                          global_refinements, max_cycles, threads, time_limit, memory_limit, bridge);
+  const std::vector<gdm::Triangle> input = triangles(vertices, faces);
+  gdm::WrapEstimate e;
+  {
+    py::gil_scoped_release release;
+    e = gdm::estimate_wrap(input, o);
+  }
+  return estimate_dict(e);
+}
+
+py::dict wrap(py::handle vertices, py::handle faces, double tolerance, py::handle cell_size, int coverage_rounds,
+              double a0, double a1, double a2, double lod_face_area, int global_refinements, int max_cycles,
+              int threads, double time_limit, double memory_limit, double bridge, py::object progress) {
+  if (!progress.is_none() && !PyCallable_Check(progress.ptr()))
+    raise_type_error("progress must be callable (cycle, faces, moving) -> bool or None, got " + repr_of(progress));
+  const gdm::WrapOptions o = wrap_options(tolerance, cell_size, coverage_rounds, a0, a1, a2, lod_face_area,
+                                          global_refinements, max_cycles, threads, time_limit, memory_limit, bridge);
   const std::vector<gdm::Triangle> input = triangles(vertices, faces);
   Observer observer(progress);
   gdm::WrapResult r;
@@ -803,7 +847,7 @@ py::dict wrap(py::handle vertices, py::handle faces, double tolerance, py::handl
     py::gil_scoped_release release;
     r = gdm::shrink_wrap(input, o, [&](const gdm::CycleReport& c) { return observer(c.cycle, c.faces, c.moved); });
   } catch (const gdm::InvalidOption&) {
-    throw;
+    throw;  // WrapTooCostly among them: refused before any work
   } catch (const gdm::Error& e) {
     observer.rethrow_pending();
     if (observer.cancelled_by_callback()) raise(exceptions().cancelled, "cancelled by the progress callback");
@@ -988,6 +1032,11 @@ PYBIND11_MODULE(_gdm, m) {
                                  "The model ran but its result is not the object (a leak to the border, the face "
                                  "limit, the time limit); .reason says why, .result holds the mesh.",
                                  py::make_tuple(x.error, py::handle(PyExc_RuntimeError)));
+  x.wrap_too_costly = new_exception(
+      m, "WrapTooCostly",
+      "A wrap refused before it starts: its estimate exceeds time_limit or memory_limit. .estimate holds the "
+      "estimate (seconds, bytes, grid, faces), .fitting_cell_size the smallest cell size within the limits.",
+      py::make_tuple(x.invalid_option));
   x.cancelled = new_exception(m, "Cancelled", "The progress callback returned False; .result holds the mesh so far.",
                               py::make_tuple(x.error));
   py::register_exception_translator(&translate);
@@ -997,7 +1046,12 @@ PYBIND11_MODULE(_gdm, m) {
         py::arg("progress"));
   m.def("wrap", &wrap, py::arg("vertices"), py::arg("faces"), py::arg("tolerance"), py::arg("cell_size"),
         py::arg("coverage_rounds"), py::arg("a0"), py::arg("a1"), py::arg("a2"), py::arg("lod_face_area"),
-        py::arg("global_refinements"), py::arg("max_cycles"), py::arg("threads"), py::arg("progress"));
+        py::arg("global_refinements"), py::arg("max_cycles"), py::arg("threads"), py::arg("time_limit"),
+        py::arg("memory_limit"), py::arg("bridge"), py::arg("progress"));
+  m.def("estimate_wrap", &estimate_wrap, py::arg("vertices"), py::arg("faces"), py::arg("tolerance"),
+        py::arg("cell_size"), py::arg("coverage_rounds"), py::arg("a0"), py::arg("a1"), py::arg("a2"),
+        py::arg("lod_face_area"), py::arg("global_refinements"), py::arg("max_cycles"), py::arg("threads"),
+        py::arg("time_limit"), py::arg("memory_limit"), py::arg("bridge"));
   m.def("write_mesh", &write_mesh, py::arg("path"), py::arg("vertices"), py::arg("faces"), py::arg("generation"));
   m.def("read_mesh", &read_mesh, py::arg("path"));
   m.def("option_catalogue", &option_catalogue);

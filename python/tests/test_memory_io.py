@@ -101,7 +101,24 @@ def test_wrap_a_soup_with_a_hole():
     m = r.report["mesh"]
     assert m["closed"] and m["manifold"] and m["genus"] == 0 and m["self_intersections"] == 0
     assert r.report["farthest_input_distance_mm"] <= 1.5
+    capped = gdm.wrap(vertices, open_faces, tolerance=1.5, bridge=12)  # the hole capped smoothly
+    m = capped.report["mesh"]
+    assert m["closed"] and m["manifold"] and m["genus"] == 0 and m["self_intersections"] == 0
     with pytest.raises(gdm.InvalidOption, match="tolerance"):
         gdm.wrap(vertices, faces, tolerance=0)
     with pytest.raises(gdm.InvalidOption, match="cell_size"):
         gdm.wrap(vertices, faces, tolerance=1, cell_size=2)
+
+
+def test_wrap_too_costly_is_refused_with_the_estimate():
+    vertices, faces = icosphere((5, -3, 2), 10.0, 2)
+    e = gdm.estimate_wrap(vertices, faces, tolerance=1.5)
+    assert e["cells"] == e["grid"][0] * e["grid"][1] * e["grid"][2] and e["faces"] > 0 and e["bytes"] > 0
+    with pytest.raises(gdm.WrapTooCostly, match="the wrap would take about .* refused before starting") as info:
+        gdm.wrap(vertices, faces, tolerance=0.003, cell_size=0.001)  # 1e13 cells: refused before any work
+    assert isinstance(info.value, gdm.InvalidOption) and info.value.option == "cell_size"
+    assert info.value.estimate["bytes"] > 2 * 2**30 and info.value.fitting_cell_size > 0.001
+    with pytest.raises(gdm.WrapTooCostly, match="memory limit of 0.001 GiB"):
+        gdm.wrap(vertices, faces, tolerance=1.5, memory_limit=0.001, time_limit=0)
+    with pytest.raises(gdm.InvalidOption, match="time_limit"):
+        gdm.wrap(vertices, faces, tolerance=1.5, time_limit=-1)

@@ -29,6 +29,12 @@ class Volume {
   const Vec3& origin() const { return origin_; }
   const Eigen::Matrix3d& direction() const { return direction_; }
   const std::vector<float>& values() const { return values_; }
+  // Moves the values out (the volume is left empty), e.g. to change a few and
+  // build a new volume without a copy.
+  std::vector<float> take_values() {
+    dims_ = {0, 0, 0};
+    return std::move(values_);
+  }
   std::size_t voxel_count() const { return values_.size(); }
 
   // "One voxel" as a length: the smallest spacing.

@@ -1057,6 +1057,40 @@ TEST(Wrap, BadToleranceExitsTwo) {
   EXPECT_FALSE(fs::exists(dir / "wrap.ply"));
 }
 
+// A wrap far beyond the limits (cells of 1 um around a 20 mm sphere: 3e13
+// cells) is refused before any work: exit 2, the estimate and a cell size that
+// fits in the message, no output; --estimate prints the estimate; the limits
+// can be lifted (0) or set, and bad limits are usage errors.
+TEST(Wrap, TooCostlyIsRefusedWithTheEstimate) {
+  const fs::path dir = work_dir();
+  gdm::write_mesh(open_sphere(), (dir / "open.ply").string());
+  const GdmRun r = run_gdm(dir, {"wrap", "open.ply", "-o", "wrap.ply", "--tolerance", "0.003", "--cell-size", "0.001"});
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("gdm wrap: error: the wrap would take about "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("distance grid, about "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("above the time limit of 180 s and the memory limit of 2 GiB; refused before starting"),
+            std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("Raise --cell-size ("), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--time-limit S, --memory-limit GB"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("usage:"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "wrap.ply"));
+  // The memory limit alone: 0.1 mm cells (a 250^3 grid, about 60 MiB and more for the faces) under 0.01 GiB.
+  const GdmRun memory = run_gdm(dir, {"wrap", "open.ply", "-o", "wrap.ply", "--tolerance", "0.3", "--cell-size", "0.1",
+                                      "--memory-limit", "0.01", "--time-limit", "0"});
+  EXPECT_EQ(memory.code, 2) << memory.err;
+  EXPECT_NE(memory.err.find("above the memory limit of 0.01 GiB"), std::string::npos) << memory.err;
+  // --estimate: the estimate only, also beyond the limits.
+  const GdmRun estimate = run_gdm(dir, {"wrap", "open.ply", "--tolerance", "0.003", "--cell-size", "0.001", "--estimate"});
+  EXPECT_EQ(estimate.code, 0) << estimate.err;
+  EXPECT_NE(estimate.out.find("triangles): about "), std::string::npos) << estimate.out;
+  for (const char* bad : {"-1", "abc", "inf"}) {
+    const GdmRun b = run_gdm(dir, {"wrap", "open.ply", "-o", "wrap.ply", "--tolerance", "1", "--time-limit", bad});
+    EXPECT_EQ(b.code, 2) << bad << ": " << b.err;
+    EXPECT_NE(b.err.find("--time-limit"), std::string::npos) << b.err;
+  }
+  EXPECT_FALSE(fs::exists(dir / "wrap.ply"));
+}
+
 TEST(Wrap, MissingOrEmptyInputExitsThree) {
   const fs::path dir = work_dir();
   const GdmRun missing = run_gdm(dir, {"wrap", "nothing_here.obj", "-o", "wrap.ply", "--tolerance", "1"});
