@@ -580,28 +580,11 @@ std::size_t Deformer::relax_bridges() {
   if (held.empty()) return 0;
   const ImageEvent input_event(1.0, input_, o_.threshold, o_.polarity, o_.mode, 1.0);
   const double max_move = 0.5 * o_.optimizer.max_step * voxel_;
-  auto guard = std::make_unique<IntersectionGuard>(mesh_, 2.0 * max_move, 1e-6 * voxel_ * voxel_);
-  for (int sweep = 0; sweep < 50; ++sweep) {
-    if (o_.prevent_self_intersection) guard->rebuild();
-    double largest = 0.0;
-    for (auto v : held) {
-      const Vec3 p = to_eigen(mesh_.point(v));
-      Vec3 centroid = Vec3::Zero();
-      int n = 0;
-      for (auto w : mesh_.vv_range(v)) {
-        centroid += to_eigen(mesh_.point(w));
-        ++n;
-      }
-      Vec3 step = centroid / n - p;
-      if (step.norm() > max_move) step *= max_move / step.norm();
-      const Vec3 q = p + step;
-      if (step.norm() < 1e-3 * voxel_ || input_event.is_blocked(q)) continue;
-      if (o_.prevent_self_intersection && !guard->move_is_safe(v, q)) continue;
-      mesh_.set_point(v, to_point(q));
-      largest = std::max(largest, step.norm());
-    }
-    if (largest < 0.01 * voxel_) break;
-  }
+  IntersectionGuard guard(mesh_, 2.0 * max_move, 1e-6 * voxel_ * voxel_);
+  relax_toward_neighbours(mesh_, held, 1.0, max_move, 50, [&] { if (o_.prevent_self_intersection) guard.rebuild(); },
+                          [&](Mesh::VertexHandle v, const Vec3& q) {
+                            return !input_event.is_blocked(q) && (!o_.prevent_self_intersection || guard.move_is_safe(v, q));
+                          });
   return held.size();
 }
 

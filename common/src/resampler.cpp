@@ -1,5 +1,6 @@
 #include "gdm/resampler.h"
 
+#include <algorithm>
 #include <cmath>
 #include <utility>
 #include <vector>
@@ -117,6 +118,37 @@ std::size_t flip_to_improve(Mesh& mesh, double max_dihedral_deg, const FlipVeto&
     ++flips;
   }
   return flips;
+}
+
+std::size_t relax_toward_neighbours(Mesh& mesh, const std::vector<Mesh::VertexHandle>& vertices, double fraction,
+                                    double max_move, int passes, const std::function<void()>& before_pass,
+                                    const MoveCheck& accept) {
+  std::size_t moves = 0;
+  for (int pass = 0; pass < passes; ++pass) {
+    if (before_pass) before_pass();
+    double largest = 0.0;
+    for (auto v : vertices) {
+      const Vec3 p = pos(mesh, v);
+      Vec3 centroid = Vec3::Zero();
+      int n = 0;
+      for (auto w : mesh.vv_range(v)) {
+        centroid += pos(mesh, w);
+        ++n;
+      }
+      if (n == 0) continue;
+      Vec3 step = fraction * (centroid / n - p);
+      const double length = step.norm();
+      if (length < 1e-3 * max_move) continue;
+      if (length > max_move) step *= max_move / length;
+      const Vec3 q = p + step;
+      if (!accept(v, q)) continue;
+      mesh.set_point(v, to_point(q));
+      largest = std::max(largest, step.norm());
+      ++moves;
+    }
+    if (largest < 0.01 * max_move) break;
+  }
+  return moves;
 }
 
 }  // namespace gdm

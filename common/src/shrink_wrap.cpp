@@ -355,32 +355,11 @@ std::size_t fair_unsupported(Mesh& mesh, const Volume& field, double level, doub
   *free_count = free.size();
   if (free.empty()) return 0;
   IntersectionGuard guard(mesh, cell, 1e-6 * cell * cell);
-  std::size_t moves = 0;
-  for (int pass = 0; pass < passes; ++pass) {
-    if (pass > 0) guard.rebuild();
-    double largest = 0.0;
-    for (auto v : free) {
-      const Vec3 p = to_eigen(mesh.point(v));
-      Vec3 centroid = Vec3::Zero();
-      int n = 0;
-      for (auto w : mesh.vv_range(v)) {
-        centroid += to_eigen(mesh.point(w));
-        ++n;
-      }
-      if (n == 0) continue;
-      Vec3 step = 0.5 * (centroid / n - p);
-      const double length = step.norm();
-      if (length < 1e-3 * cell) continue;
-      if (length > cell) step *= cell / length;
-      const Vec3 q = p + step;
-      if (!(field.sample(q) >= level) || !guard.move_is_safe(v, q) || obstacle.blocks_move(mesh, v, q)) continue;
-      mesh.set_point(v, to_point(q));
-      largest = std::max(largest, step.norm());
-      ++moves;
-    }
-    if (largest < 0.01 * cell) break;
-  }
-  return moves;
+  return relax_toward_neighbours(mesh, free, 0.5, cell, passes, [&] { guard.rebuild(); },
+                                 [&](Mesh::VertexHandle v, const Vec3& q) {
+                                   return field.sample(q) >= level && guard.move_is_safe(v, q) &&
+                                          !obstacle.blocks_move(mesh, v, q);
+                                 });
 }
 
 }  // namespace

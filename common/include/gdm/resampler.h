@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <functional>
+#include <vector>
 
 #include "gdm/mesh.h"
 
@@ -38,5 +39,17 @@ void subdivide_all(Mesh& mesh, int generation);
 // number of flips.
 using FlipVeto = std::function<bool(Mesh::EdgeHandle, const Mesh::VertexHandle (&)[4])>;
 std::size_t flip_to_improve(Mesh& mesh, double max_dihedral_deg, const FlipVeto& allow);
+
+// Fairing: each of `vertices`, in order (the same result for any thread
+// count), moves `fraction` of the way toward the centroid of its neighbours,
+// at most `max_move` (mm) a pass, where `accept(vertex, new position)` allows
+// it (the caller's self-intersection guard, region and obstacle checks);
+// `before_pass` runs before every pass (the guard's rebuild). Stops after
+// `passes` passes or when no move exceeded a hundredth of `max_move`.
+// Returns the moves made. Used for the caps over openings (the gap, the wrap).
+using MoveCheck = std::function<bool(Mesh::VertexHandle, const Vec3&)>;
+std::size_t relax_toward_neighbours(Mesh& mesh, const std::vector<Mesh::VertexHandle>& vertices, double fraction,
+                                    double max_move, int passes, const std::function<void()>& before_pass,
+                                    const MoveCheck& accept);
 
 }  // namespace gdm
