@@ -203,6 +203,30 @@ TEST(ShrinkWrap, bridge_caps_a_hole_smoothly) {
   expect_refused(input, o, "bridge must be >= 0");
 }
 
+// A closed scan cut through by a slit 2 mm wide (the faces of a sphere of
+// radius 6 mm within 1 mm of its equator removed), cell 0.25 mm, tolerance 0.75 mm: with a gap (bridge) of 3 mm the wrap is the
+// solid's, no face inside the sphere; without one it enters the slit and
+// lines the inside (issue 14).
+TEST(ShrinkWrap, a_gap_above_a_slit_wraps_the_solid) {
+  std::vector<gdm::Triangle> input;
+  for (const auto& t : sphere_soup(gdm::Vec3(0, 0, 0), 6.0, 4))
+    if (std::abs((t[0] + t[1] + t[2]).z() / 3.0) > 1.0) input.push_back(t);
+  const auto deepest = [](const gdm::WrapResult& r) {
+    double d = 6.0;
+    for (auto v : r.mesh.vertices()) d = std::min(d, gdm::to_eigen(r.mesh.point(v)).norm());
+    return d;
+  };
+  gdm::WrapOptions o = options(0.25, 0.75);
+  o.bridge = 3.0;
+  const gdm::WrapResult solid = gdm::shrink_wrap(input, o);
+  expect_valid_wrap(input, solid, 0.75);
+  EXPECT_GT(deepest(solid), 5.0) << "a wrap face lies inside the solid";
+  o.bridge = 0.0;
+  const gdm::WrapResult lined = gdm::shrink_wrap(input, o);
+  expect_valid_wrap(input, lined, 0.75);
+  EXPECT_LT(deepest(lined), 4.0) << "without a gap the wrap was expected to enter the slit";
+}
+
 // An open box: the five faces of a 20 x 14 x 10 mm box without its top, each
 // split into triangles of about 1 mm (a planar hole of 20 x 14 mm at z = 10).
 std::vector<gdm::Triangle> open_box() {

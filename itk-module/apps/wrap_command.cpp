@@ -32,7 +32,7 @@ const char* const kUsage =
     "  -o, --output FILE        the wrap (.ply keeps the per-vertex generation)\n"
     "  --tolerance D            wanted largest distance of IN from the wrap, mm (> 0, required)\n"
     "  --cell-size C            distance-field cell, mm (<= D; default D / 3)\n"
-    "  --bridge W               cap openings up to about W mm wide with no input under them (holes)\n"
+    "  --bridge W, --gap W      cap openings up to about W mm wide with no input under them (holes)\n"
     "                           smoothly, the envelope of balls of diameter W, instead of sinking into\n"
     "                           them (mm; default 0 = off; e.g. 10 x D)\n"
     "  --coverage-rounds N      refinement rounds where IN lies beyond 90% of D (default 4, 0 = off)\n"
@@ -87,9 +87,9 @@ WrapArgs parse(int argc, char* argv[]) {
     else if (arg == "-o" || arg == "--output") a.output = value();
     else if (arg == "--tolerance") a.tolerance = number(arg, value());
     else if (arg == "--cell-size") a.cell_size = number(arg, value());
-    else if (arg == "--bridge") {
+    else if (arg == "--bridge" || arg == "--gap") {  // the wrap's gap size, as the model's --gap
       a.bridge = number(arg, value());
-      if (a.bridge < 0) throw UsageError("--bridge must be >= 0 (mm; 0 = off), got " + std::string(argv[i]));
+      if (a.bridge < 0) throw UsageError(arg + " must be >= 0 (mm; 0 = off), got " + std::string(argv[i]));
     }
     else if (arg == "--coverage-rounds") {
       const double n = number(arg, value());
