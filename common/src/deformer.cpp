@@ -14,6 +14,7 @@
 #include "gdm/parallel.h"
 #include "gdm/passage.h"
 #include "gdm/resampler.h"
+#include "gdm/self_contact.h"
 #include "gdm/seed.h"
 #include "gdm/surface_fit.h"
 #include "gdm/text.h"
@@ -457,9 +458,11 @@ std::size_t Deformer::refine_where_blocked(int cycle) {
   compute_face_normals();
   const double finest = std::min(0.5, o_.lod_face_area) * voxel_ * voxel_;
   std::vector<int> asking;
+  // Room ahead that the model itself fills (two fronts that met) is no channel.
+  const std::vector<char> met = contact_faces(mesh_, 2.5 * voxel_);
   for (auto f : mesh_.faces()) {
     const double area = 0.5 * face_normal_area(f);
-    if (!(area > 2.0 * finest) || !object_ahead(f)) continue;
+    if (!(area > 2.0 * finest) || met[static_cast<std::size_t>(f.idx())] || !object_ahead(f)) continue;
     // The face spans the mouth of a channel: its corners stand on the wall
     // around it, its middle sees into the channel.
     int walled = 0;
@@ -467,6 +470,9 @@ std::size_t Deformer::refine_where_blocked(int cycle) {
     if (walled >= 2) asking.push_back(f.idx());
 
   }
+  // The model converged: only the region around the asking faces moves on
+  // (the rest wakes up only if a move reaches it).
+  if (!asking.empty()) std::fill(active_.begin(), active_.end(), 0);
   for (int i : asking) {
     const Mesh::FaceHandle f(i);
     const double target = std::max(finest, 0.25 * 0.5 * face_normal_area(f));

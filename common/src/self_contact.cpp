@@ -53,19 +53,16 @@ int find_root(std::vector<int>& parent, int i) {
 
 }  // namespace
 
-ContactReport find_self_contacts(const Mesh& mesh, double distance, const std::function<bool(const Vec3&)>& object_side) {
-  ContactReport report;
-  if (mesh.n_faces() == 0 || !(distance > 0.0)) return report;
+std::vector<char> contact_faces(const Mesh& mesh, double distance, std::vector<Vec3>* gaps) {
+  std::vector<char> contact(mesh.n_faces(), 0);
+  if (gaps) gaps->assign(mesh.n_faces(), Vec3::Zero());
+  if (mesh.n_faces() == 0 || !(distance > 0.0)) return contact;
   const std::vector<FaceData> faces = face_data(mesh);
   double longest = 0.0;
   for (const FaceData& d : faces)
     for (int k = 0; k < 3; ++k) longest = std::max(longest, (d.corners[static_cast<std::size_t>(k)] - d.centroid).norm());
   FaceGrid grid;
   grid.rebuild(mesh, std::max(distance, longest), 0.0);
-
-  // Faces in contact, and for each the midpoint of its gap.
-  std::vector<char> contact(faces.size(), 0);
-  std::vector<Vec3> gap(faces.size(), Vec3::Zero());
   for (auto f : mesh.faces()) {
     const FaceData& a = faces[static_cast<std::size_t>(f.idx())];
     if (a.area == 0.0) continue;
@@ -81,12 +78,21 @@ ContactReport find_self_contacts(const Mesh& mesh, double distance, const std::f
       if (near.empty()) near = neighbourhood_of(mesh, f);
       for (auto v : mesh.fv_range(Mesh::FaceHandle(g)))
         if (near.count(v.idx())) return false;
-      gap[static_cast<std::size_t>(f.idx())] = a.centroid + 0.5 * d * a.normal;
+      if (gaps) (*gaps)[static_cast<std::size_t>(f.idx())] = a.centroid + 0.5 * d * a.normal;
       found = true;
       return true;
     });
     contact[static_cast<std::size_t>(f.idx())] = found;
   }
+  return contact;
+}
+
+ContactReport find_self_contacts(const Mesh& mesh, double distance, const std::function<bool(const Vec3&)>& object_side) {
+  ContactReport report;
+  if (mesh.n_faces() == 0 || !(distance > 0.0)) return report;
+  const std::vector<FaceData> faces = face_data(mesh);
+  std::vector<Vec3> gap;
+  const std::vector<char> contact = contact_faces(mesh, distance, &gap);
 
   // Edge-connected regions, in face order (deterministic).
   std::vector<int> parent(faces.size());

@@ -39,6 +39,11 @@ struct ContactReport {
 ContactReport find_self_contacts(const Mesh& mesh, double distance,
                                  const std::function<bool(const Vec3&)>& object_side = {});
 
+// The faces of `mesh` in contact as find_self_contacts defines it (1 =
+// in contact, by face index), and for each the midpoint of its gap (`gaps`,
+// when given).
+std::vector<char> contact_faces(const Mesh& mesh, double distance, std::vector<Vec3>* gaps = nullptr);
+
 // One log line per region (at most `limit`, the largest), saying what it
 // means; empty when there is no contact.
 std::vector<std::string> describe_contacts(const ContactReport& report, std::size_t limit = 5);
