@@ -117,6 +117,24 @@ TEST(Gap, without_a_gap_the_model_leaks_out_of_the_bottle) {
   EXPECT_EQ(r.gap_closed_voxels, 0u);
 }
 
+// The gate, the caps and the channel refinement give the same mesh for any
+// thread count.
+TEST(Gap, same_mesh_for_any_thread_count) {
+  const Bottle b = make_bottle(6, true, 0.05, 5u);
+  std::vector<Vec3> first;
+  for (const int threads : {1, 2}) {
+    Mesh mesh = make_geodesic_sphere(b.center, 3.0, 1);
+    DeformOptions o = bottle_options(true, 8.0);
+    o.threads = threads;
+    deform(mesh, b.volume, o);
+    std::vector<Vec3> points;
+    for (auto v : mesh.vertices()) points.push_back(to_eigen(mesh.point(v)));
+    if (first.empty()) first = points;
+    else EXPECT_EQ(points, first) << "threads " << threads;
+  }
+  ASSERT_FALSE(first.empty());
+}
+
 TEST(Gap, two_voxels_or_less_is_no_gate) {
   const Bottle b = make_bottle(6, true, 0.0, 3u);
   EXPECT_FALSE(gap_gate_active(0.0, b.volume));
