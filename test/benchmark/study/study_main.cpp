@@ -442,11 +442,13 @@ void write_leak_section(std::ostream& o, const std::vector<CaseResult>& results)
        "surface; **truth→model max**: the largest such distance (a channel not followed to its end shows its missing "
        "length). Our GDM runs with the case's gap G (the opening plus two voxels) and once without it; the peers have "
        "no notion of a gap. Flying edges, the Slicer chain, ITK's BinaryMask3DMeshSource and CGAL Mesh_3 mesh the "
-       "whole volume at the threshold, with no seed and no connected-component step: they return the cavity's wall "
-       "together with the wall's outside, joined at the opening's rim (the outside reaches the volume's border, "
-       "where the object-darker masks are cut open). A seeded connected-component step would not help them: "
-       "the cavity and the outside are one connected region of the thresholded image through the opening. "
-       "ITK's simplex mesh is the only seeded peer: its balloon inflates from the seed without a size limit.\n\n";
+       "whole volume at the threshold, with no seed and no connected-component step, so they return the wall's "
+       "outside as well as the cavity: flying edges and the Slicer chain one surface joined at the opening's rim; "
+       "ITK's mask of the dark side is also cut open at the volume's border; CGAL Mesh_3 bounds the dark region by "
+       "the image's box, and on the opened bottles, at these face counts, returned only that box. A seeded "
+       "connected-component step would not help them: the cavity and the outside are one connected region of the "
+       "thresholded image through the opening. ITK's simplex mesh is the only seeded peer; it has no gap either, "
+       "and where it stops depends on its balloon force and iterations.\n\n";
   o << "| case | method | faces | time ms | leak % | leak max | missed % | truth→model max | mean | closed | components |\n";
   o << "|---|---|---:|---:|---:|---:|---:|---:|---:|:-:|---:|\n";
   for (const CaseResult* cr : cases) {
