@@ -5,10 +5,12 @@
 # docs/benchmarks/. Sets the machine up and builds first (scripts/setup.sh,
 # scripts/build.sh). Renders offscreen under xvfb-run.
 #
-#   bash scripts/benchmark-study.sh            # the whole study (about 15 minutes on 2 cores)
+#   bash scripts/benchmark-study.sh            # the whole study (15 to 30 minutes on 2 cores, with their load)
 #   bash scripts/benchmark-study.sh --quick    # one small case per method, one run (CI), into build/benchmark-study-quick
 #
-# Other arguments go to gdm_benchmark_study (--runs N, --threads N, --out DIR, --budget SECONDS).
+# Other arguments go to gdm_benchmark_study (--runs N, --threads N, --out DIR, --budget SECONDS,
+# --only WORD: only the cases whose id contains WORD, repeatable, e.g. --only bottle --only channels;
+# with --only, pass an --out other than docs/benchmarks so the full report stays whole).
 # GDM_BUILD_DIR picks the build folder (default build/); GDM_SHARED_DIR the
 # folder holding data/ (default ../shared); GDM_STUDY_CMAKE_ARGS extra CMake arguments.
 set -euo pipefail

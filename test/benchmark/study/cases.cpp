@@ -98,6 +98,10 @@ Case phantom_case(const Shape& shape, const std::string& variant, const gdm::Vol
   const auto distance = shape.distance;
   k.exact_distance = distance ? std::function<double(const Point&)>([distance](const Point& p) { return distance(vec(p)); })
                               : std::function<double(const Point&)>([sdf](const Point& p) { return std::abs(sdf(vec(p))); });
+  k.signed_distance = [sdf, distance](const Point& p) {
+    const double d = distance ? distance(vec(p)) : std::abs(sdf(vec(p)));
+    return sdf(vec(p)) > 0.0 ? d : -d;
+  };
   k.truth_field = sample_field(shape.grid, shape.sdf);
   k.truth_level = 0.0;
   return k;
@@ -252,11 +256,71 @@ CaseSet phantom_cases(bool quick) {
           ph::capsule(exit - Vec3(2, 0, 0), exit + Vec3(8, 0, 0), 2.0));
       Case h = phantom_case(s, "hole in the wall", ph::voxelize(s.grid, wall, kBackground, kContrast));
       h.object_brighter = false;
+      // The hole is 4 mm across: our GDM runs with a gap two voxels wider.
+      h.gap = 6.0;
       h.note = "dark cavity (the object) in a bright 4 mm wall with a 2 mm-radius hole at (" +
                std::to_string(static_cast<int>(exit.x())) + ", " + std::to_string(static_cast<int>(exit.y())) + ", " +
-               std::to_string(static_cast<int>(exit.z())) + ")";
+               std::to_string(static_cast<int>(exit.z())) + "); the truth is the cavity without the hole, our GDM runs "
+               "with a gap of 6 mm (the hole's 4 mm diameter plus two voxels)";
       set.cases.push_back(std::move(h));
     }
+  }
+  return set;
+}
+
+CaseSet opening_cases(bool quick) {
+  CaseSet set;
+  constexpr double kNoise = 0.05;  // Gaussian noise, sigma 5 % of the contrast
+  // Opened bottles: a dark spherical cavity of radius 15 voxels in a bright wall
+  // 2 voxels thick, pierced along +x by a round opening of diameter d. The
+  // cavity is the object; the truth is its sphere, the opening capped on it.
+  for (const int d : quick ? std::vector<int>{4} : std::vector<int>{4, 8}) {
+    ph::Grid g;
+    g.dims = {48, 48, 48};
+    const Vec3 c = g.center();
+    const double inner = 15.0, outer = 17.0, half = 0.5 * d;
+    const ph::Sdf shell = [c, inner, outer](const Vec3& p) {
+      const double r = (p - c).norm();
+      return std::max(r - outer, inner - r);
+    };
+    // The opening: the half cylinder of radius d / 2 from the centre along +x.
+    const ph::Sdf opening = [c, half](const Vec3& p) {
+      return std::max(std::hypot(p.y() - c.y(), p.z() - c.z()) - half, c.x() - p.x());
+    };
+    const gdm::Volume wall = ph::with_gaussian_noise(
+        ph::voxelize(g, ph::difference(shell, opening), kBackground, kContrast), kNoise * kContrast, 40u + d);
+    Case k = phantom_case({"opened bottle", "bottle", g, ph::sphere(c, inner), {}, c}, "d" + std::to_string(d), wall);
+    k.group = "openings and channels";
+    k.name = "opened bottle, opening " + std::to_string(d) + " voxels";
+    k.object_brighter = false;
+    k.gap = d + 2.0;
+    k.note = "dark cavity of radius 15 voxels (the object) in a bright wall 2 voxels thick with a round opening " +
+             std::to_string(d) + " voxels across along +x; Gaussian noise, sigma 5% of the contrast; the truth is the "
+             "cavity's sphere, the opening capped on it; our GDM runs with a gap of " + std::to_string(d + 2) +
+             " mm (the opening plus two voxels)";
+    set.cases.push_back(std::move(k));
+  }
+  if (quick) return set;
+  {
+    // The channel phantom: a bright chamber (sphere of radius 9 voxels) with
+    // three round channels 2, 3 and 4 voxels wide reaching 20 voxels beyond its
+    // wall (along +x, +y and -z, round ends); our GDM at the defaults.
+    ph::Grid g;
+    g.dims = {72, 72, 72};
+    const Vec3 o = g.center();
+    const double chamber = 9.0, length = 20.0;
+    const ph::Sdf sdf = ph::unite({ph::sphere(o, chamber), ph::capsule(o, o + Vec3(chamber + length - 1.0, 0, 0), 1.0),
+                                   ph::capsule(o, o + Vec3(0, chamber + length - 1.5, 0), 1.5),
+                                   ph::capsule(o, o - Vec3(0, 0, chamber + length - 2.0), 2.0)});
+    const gdm::Volume v =
+        ph::with_gaussian_noise(ph::voxelize(g, sdf, kBackground, kContrast), kNoise * kContrast, 61u);
+    Case k = phantom_case({"channel phantom", "channels", g, sdf, {}, o}, "2-3-4", v);
+    k.group = "openings and channels";
+    k.name = "chamber with channels 2, 3 and 4 voxels wide";
+    k.note = "bright chamber of radius 9 voxels with round channels 2, 3 and 4 voxels wide and 20 voxels long "
+             "(+x, +y, -z); Gaussian noise, sigma 5% of the contrast; the truth is the analytic surface; our GDM at "
+             "the defaults (no gap: every channel two voxels wide is open)";
+    set.cases.push_back(std::move(k));
   }
   return set;
 }
@@ -376,8 +440,8 @@ CaseSet area_scaling_cases(bool quick) {
   return set;
 }
 
-gdm::Mesh seed_mesh(const Case& c) {
-  if (c.mode == gdm::Mode::grow) return gdm::make_icosahedron(vec(c.seed), c.seed_radius);
+gdm::Mesh seed_mesh(const Case& c, int level) {
+  if (c.mode == gdm::Mode::grow) return gdm::make_geodesic_sphere(vec(c.seed), c.seed_radius, level);
   // An ellipsoid inscribed in the volume, 1.5 voxels inside its border.
   gdm::Mesh mesh = gdm::make_geodesic_sphere(Vec3::Zero(), 1.0, 3);
   Vec3 center, radii;

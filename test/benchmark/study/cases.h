@@ -24,6 +24,13 @@ struct Case {
   double seed_radius = 3.0;  // shrink: the seed is an ellipsoid inscribed in the volume
   // Exact unsigned distance to the true surface (mm) for phantoms; empty for scans.
   std::function<double(const Point&)> exact_distance;
+  // Phantoms: the same distance signed, positive outside the true object; it
+  // tells a leak (surface outside the object) from a miss. Empty for scans.
+  std::function<double(const Point&)> signed_distance;
+  // The gap size G (mm) our GDM rows run with (DeformOptions::gap): the case's
+  // object has openings in its wall narrower than G that the model must not
+  // pass. 0: none (the default). With G > 0 the study adds a row without it.
+  double gap = 0.0;
   // The signed distance on the grid (phantoms) or the volume itself (scans),
   // and the level of its reference surface: the truth the coverage is measured on.
   Image truth_field;
@@ -40,10 +47,16 @@ struct CaseSet {
 // quick: one small phantom only.
 CaseSet phantom_cases(bool quick);
 CaseSet scan_cases(const std::string& data_dir);
+// Opened bottles and the channel phantom (issue 14): where a method leaks
+// through an opening narrower than the gap, or misses a channel wider than it.
+// quick: the smaller opening only.
+CaseSet opening_cases(bool quick);
 CaseSet volume_scaling_cases(bool quick);
 CaseSet area_scaling_cases(bool quick);
 
-// The closed seed mesh GDM (and, in index units, ITK's simplex) starts from.
-gdm::Mesh seed_mesh(const Case& c);
+// The closed seed mesh GDM (and, in index units, ITK's simplex) starts from:
+// growing, a geodesic sphere of `level` (0: the icosahedron, the study's seed;
+// 1: the command line's default seed) at the case's seed.
+gdm::Mesh seed_mesh(const Case& c, int level = 0);
 
 }  // namespace study
