@@ -270,19 +270,14 @@ def _header_voxels(path):
     """Voxel count from an image header, or None when it cannot be read cheaply."""
     lower = path.lower()
     try:
-        if lower.endswith((".mha", ".mhd")):
-            with open(path, "rb") as f:
-                head = f.read(65536).decode("latin-1")
-            m = re.search(r"^\s*DimSize\s*=\s*([0-9 ]+)$", head, re.M)
-            if m:
-                return math.prod(int(v) for v in m.group(1).split())
-        elif lower.endswith((".nrrd", ".nhdr")):
-            with open(path, "rb") as f:
-                head = f.read(65536).decode("latin-1")
-            m = re.search(r"^sizes:\s*([0-9 ]+)$", head, re.M)
-            if m:
-                return math.prod(int(v) for v in m.group(1).split())
-        elif lower.endswith((".nii", ".nii.gz")):
+        text_headers = {(".mha", ".mhd"): r"^\s*DimSize\s*=\s*([0-9 ]+)$", (".nrrd", ".nhdr"): r"^sizes:\s*([0-9 ]+)$"}
+        for suffixes, pattern in text_headers.items():
+            if lower.endswith(suffixes):
+                with open(path, "rb") as f:
+                    head = f.read(65536).decode("latin-1")
+                m = re.search(pattern, head, re.M)
+                return math.prod(int(v) for v in m.group(1).split()) if m else None
+        if lower.endswith((".nii", ".nii.gz")):
             opener = gzip.open if lower.endswith(".gz") else open
             with opener(path, "rb") as f:
                 header = f.read(348)
