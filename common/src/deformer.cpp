@@ -102,7 +102,8 @@ class Deformer {
               ImageEvent(options.a1, volume, options.threshold, options.polarity, options.mode,
                          effective_intensity_scale(options, input)),
               TopologyTerm(options.a2, options.lod_topology_extent ? lod_ring_extent(options, voxel_) : 0.0,
-                           options.max_topology_ratio)} {
+                           options.max_topology_ratio)},
+        input_image_(1.0, input, options.threshold, options.polarity, options.mode, 1.0) {
     max_travel_ = options.refinement_travel * lod_edge_length(options, voxel_);
   }
 
@@ -139,6 +140,7 @@ class Deformer {
   double voxel_;
   int threads_;
   CostFunction cost_;
+  ImageEvent input_image_;  // the image event on the caller's volume (the gap gate's caps)
   std::unique_ptr<IntersectionGuard> guard_;
   std::size_t rejected_earlier_stages_ = 0;
   double max_travel_ = 0.0;  // mm, after a global refinement
@@ -569,8 +571,7 @@ bool Deformer::held_by_gate(Mesh::VertexHandle v) const {
   const double sense = o_.mode == Mode::grow ? 1.0 : -1.0;
   const Vec3 ahead = p + (sense * 0.75 * voxel_ / normal.norm()) * normal;
   if (!input_.contains(ahead)) return false;
-  const ImageEvent input_event(1.0, input_, o_.threshold, o_.polarity, o_.mode, 1.0);
-  return cost_.image.is_blocked(ahead) && !input_event.is_blocked(ahead);
+  return cost_.image.is_blocked(ahead) && !input_image_.is_blocked(ahead);
 }
 
 // Beyond the paper: a bridged opening is capped by a membrane, not by the
@@ -584,12 +585,11 @@ std::size_t Deformer::relax_bridges() {
   for (auto v : mesh_.vertices())
     if (held_by_gate(v)) held.push_back(v);
   if (held.empty()) return 0;
-  const ImageEvent input_event(1.0, input_, o_.threshold, o_.polarity, o_.mode, 1.0);
   const double max_move = 0.5 * o_.optimizer.max_step * voxel_;
   IntersectionGuard guard(mesh_, 2.0 * max_move, 1e-6 * voxel_ * voxel_);
   relax_toward_neighbours(mesh_, held, 1.0, max_move, 50, [&] { if (o_.prevent_self_intersection) guard.rebuild(); },
                           [&](Mesh::VertexHandle v, const Vec3& q) {
-                            return !input_event.is_blocked(q) && (!o_.prevent_self_intersection || guard.move_is_safe(v, q));
+                            return !input_image_.is_blocked(q) && (!o_.prevent_self_intersection || guard.move_is_safe(v, q));
                           });
   return held.size();
 }

@@ -51,13 +51,12 @@ int find_root(std::vector<int>& parent, int i) {
   return i;
 }
 
-}  // namespace
-
-std::vector<char> contact_faces(const Mesh& mesh, double distance, std::vector<Vec3>* gaps) {
+// contact_faces over face data already computed.
+std::vector<char> faces_in_contact(const Mesh& mesh, const std::vector<FaceData>& faces, double distance,
+                                   std::vector<Vec3>* gaps) {
   std::vector<char> contact(mesh.n_faces(), 0);
   if (gaps) gaps->assign(mesh.n_faces(), Vec3::Zero());
   if (mesh.n_faces() == 0 || !(distance > 0.0)) return contact;
-  const std::vector<FaceData> faces = face_data(mesh);
   double longest = 0.0;
   for (const FaceData& d : faces)
     for (int k = 0; k < 3; ++k) longest = std::max(longest, (d.corners[static_cast<std::size_t>(k)] - d.centroid).norm());
@@ -87,12 +86,18 @@ std::vector<char> contact_faces(const Mesh& mesh, double distance, std::vector<V
   return contact;
 }
 
+}  // namespace
+
+std::vector<char> contact_faces(const Mesh& mesh, double distance, std::vector<Vec3>* gaps) {
+  return faces_in_contact(mesh, face_data(mesh), distance, gaps);
+}
+
 ContactReport find_self_contacts(const Mesh& mesh, double distance, const std::function<bool(const Vec3&)>& object_side) {
   ContactReport report;
   if (mesh.n_faces() == 0 || !(distance > 0.0)) return report;
   const std::vector<FaceData> faces = face_data(mesh);
   std::vector<Vec3> gap;
-  const std::vector<char> contact = contact_faces(mesh, distance, &gap);
+  const std::vector<char> contact = faces_in_contact(mesh, faces, distance, &gap);
 
   // Edge-connected regions, in face order (deterministic).
   std::vector<int> parent(faces.size());
