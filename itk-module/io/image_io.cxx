@@ -8,6 +8,9 @@
 #include "itkImageIOFactory.h"
 #include "itkImageSeriesReader.h"
 #include "itkMetaDataObject.h"
+#include "itkMetaImageIO.h"
+#include "itkNiftiImageIO.h"
+#include "itkNrrdImageIO.h"
 #include "itkVTKImageIO.h"
 #include "itkSymmetricEigenAnalysis.h"  // ITK's Eigen before the system one
 
@@ -139,6 +142,84 @@ std::string voxel_claim(const std::string& path, unsigned long long voxels, long
 // text / bytes themselves. Called twice: before ITK reads the header (the
 // spacing only: `expected` < 0), and after (the data size against the voxel
 // count ITK read).
+
+// MetaImage (.mha/.mhd) header grammar, checked before MetaIO parses it.
+// MetaIO trusts its header: a key of 300 bytes overflows its 255-byte name
+// buffer (strcpy, abort), "NDims = 3000000e+00" reads three million numbers
+// per array field (a hang), a short array line reads on into the next line.
+// All three were found by fuzz_image_reader. So the header must be lines of
+// "Key = value" (or "Key: value") in printable ASCII up to its
+// ElementDataFile line, NDims an integer 1 to 8 before any array field,
+// each array field exactly as many numbers as it needs, no field twice.
+void check_metaimage_grammar(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  const auto refuse = [&](int line, const std::string& why) {
+    throw InvalidInput(path + " is not a well-formed MetaImage header: line " + std::to_string(line) + " " + why);
+  };
+  // Fields holding numbers: how many (0 = NDims of them, -1 = NDims squared).
+  static const std::map<std::string, int> arrays{
+      {"dimsize", 0},       {"elementspacing", 0},  {"elementsize", 0},   {"offset", 0},
+      {"position", 0},      {"origin", 0},          {"centerofrotation", 0}, {"transformmatrix", -1},
+      {"rotation", -1},     {"orientation", -1},    {"color", 4},         {"elementmin", 1},
+      {"elementmax", 1},    {"headersize", 1},      {"compresseddatasize", 1}, {"id", 1},
+      {"parentid", 1},      {"elementnumberofchannels", 1}};
+  constexpr std::size_t kMaxKey = 128, kMaxValue = 400;
+  std::map<std::string, int> seen;
+  long long ndims = -1;
+  std::string line;
+  for (int at = 1; std::getline(in, line); ++at) {
+    if (in.tellg() > (1 << 20) || line.size() > kMaxKey + kMaxValue + 8) refuse(at, "is too long for a header line");
+    const auto sep = line.find_first_of("=:");
+    if (sep == std::string::npos) {
+      if (!trim(line).empty()) refuse(at, "is not 'Key = value'");
+      continue;
+    }
+    const std::string key = trim(line.substr(0, sep));
+    if (key.empty() || key.size() > kMaxKey) refuse(at, "has no key or a key longer than 128 characters");
+    for (const char c : key)
+      if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-' && c != '.')
+        refuse(at, "has a key with a byte that is not a letter, digit, '_', '-' or '.' (" +
+                           std::to_string(static_cast<unsigned char>(c)) + ")");
+    const std::string k = lower(key);
+    const std::string value = line.substr(sep + 1);
+    if (k == "elementdatafile") {
+      const std::string name = value.substr(0, value.find('\0'));  // MetaIO's C string ends at a NUL
+      if (trim(name).empty()) refuse(at, "names no data file");
+      if (name.size() > kMaxValue) refuse(at, "names a data file longer than 400 characters");
+      // MetaIO splits the name into words: bytes above 0x7e made it read
+      // past the words it had allocated (found by fuzz_image_reader).
+      for (const char c : name)
+        if ((static_cast<unsigned char>(c) < 0x20 && c != '\t' && c != '\r') || static_cast<unsigned char>(c) > 0x7e)
+          refuse(at, "names a data file with a byte that is not printable ASCII (" +
+                         std::to_string(static_cast<unsigned char>(c)) + "; rename the data file)");
+      return;  // the data follow (LOCAL) or live elsewhere
+    }
+    if (value.size() > kMaxValue) refuse(at, "has a value longer than 400 characters");
+    for (const char c : value)
+      if ((static_cast<unsigned char>(c) < 0x20 && c != '\t' && c != '\r') || static_cast<unsigned char>(c) > 0x7e)
+        refuse(at, "holds a byte that is not printable ASCII (" + std::to_string(static_cast<unsigned char>(c)) + ")");
+    if (seen[k]++ && (k == "ndims" || arrays.count(k))) refuse(at, "repeats the field " + key);
+    if (k == "ndims") {
+      const std::string v = trim(value);
+      if (v.empty() || v.size() > 1 || v[0] < '1' || v[0] > '8') refuse(at, "gives NDims '" + v + "'; an integer 1 to 8 is needed");
+      ndims = v[0] - '0';
+      continue;
+    }
+    const auto a = arrays.find(k);
+    if (a == arrays.end()) continue;
+    if (a->second <= 0 && ndims < 0) refuse(at, "gives " + key + " before NDims");
+    const long long needed = a->second == 0 ? ndims : a->second < 0 ? ndims * ndims : a->second;
+    const std::vector<double> numbers = parse_numbers(value);
+    if (static_cast<long long>(numbers.size()) != needed)
+      refuse(at, "gives " + std::to_string(numbers.size()) + " numbers for " + key + "; " +
+                         std::to_string(needed) + " are needed");
+    if (k == "dimsize")
+      for (const double d : numbers)
+        if (!(d >= 1.0 && d <= 2147483647.0 && d == std::floor(d)))
+          refuse(at, "gives a DimSize of " + number(d) + "; sizes are whole numbers from 1");
+  }
+  throw InvalidInput(path + " is not a well-formed MetaImage header: no ElementDataFile line ends it");
+}
 
 // MetaImage (.mha/.mhd): spacing, and the data size of uncompressed data.
 void check_metaimage(const std::string& path, unsigned long long voxels, long double expected) {
@@ -457,18 +538,37 @@ void check_header_first(const std::string& path) {
   char magic[4] = {0, 0, 0, 0};
   std::ifstream(path, std::ios::binary).read(magic, 4);
   if (std::string(magic, 4) == "NRRD") check_nrrd(path, 0, -1);
-  else if (ends_with(path, ".mha") || ends_with(path, ".mhd")) check_metaimage(path, 0, -1);
+  else if (ends_with(path, ".mha") || ends_with(path, ".mhd")) {
+    check_metaimage_grammar(path);
+    check_metaimage(path, 0, -1);
+  }
   else if (ends_with(path, ".nii") || ends_with(path, ".nii.gz") || ends_with(path, ".hdr") || ends_with(path, ".hdr.gz"))
     check_nifti(path, 0, -1);
 }
 
+// The reader of a file: the one its extension names (.mha/.mhd, .nrrd/.nhdr,
+// .nii/.nii.gz/.hdr, .vtk), else the first of ITK's factories that can.
+// Asking every factory let GDCM parse a .mha whose bytes looked like DICOM
+// and allocate the 1.4 GB one element claimed (found by fuzz_image_reader).
+// Null when the file cannot be read.
+itk::ImageIOBase::Pointer image_io_for(const std::string& path) {
+  itk::ImageIOBase::Pointer io;
+  if (ends_with(path, ".mha") || ends_with(path, ".mhd")) io = itk::MetaImageIO::New();
+  else if (ends_with(path, ".nrrd") || ends_with(path, ".nhdr")) io = itk::NrrdImageIO::New();
+  else if (ends_with(path, ".nii") || ends_with(path, ".nii.gz") || ends_with(path, ".hdr") || ends_with(path, ".hdr.gz"))
+    io = itk::NiftiImageIO::New();
+  else if (ends_with(path, ".vtk")) io = itk::VTKImageIO::New();
+  else return itk::ImageIOFactory::CreateImageIO(path.c_str(), itk::IOFileModeEnum::ReadMode);
+  return io->CanReadFile(path.c_str()) ? io : nullptr;
+}
+
 Image::Pointer read_file(const std::string& path, const ReadOptions& options, ImageInfo& info) {
   check_header_first(path);
-  itk::ImageIOBase::Pointer io = itk::ImageIOFactory::CreateImageIO(path.c_str(), itk::IOFileModeEnum::ReadMode);
+  itk::ImageIOBase::Pointer io = image_io_for(path);
   if (!io)
     throw InvalidInput("cannot read " + path +
-                       ": not a readable image (supported: DICOM, .mha/.mhd, .nrrd/.nhdr, .nii/.nii.gz, .vtk; "
-                       "is the header corrupt?)");
+                       ": not a readable image of the format its name gives (supported: DICOM, .mha/.mhd, "
+                       ".nrrd/.nhdr, .nii/.nii.gz, .vtk; is the header corrupt?)");
   io->SetFileName(path);
   try {
     io->ReadImageInformation();

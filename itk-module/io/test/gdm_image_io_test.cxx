@@ -648,6 +648,64 @@ TEST(Fuzz, MetaImageDataFileWithASpaceThatDoesNotExist) {
   EXPECT_EQ(gdm::read_volume((dir / "spaced.mhd").string()).voxel_count(), 60u);
 }
 
+// fuzz_image_reader (corpus timeout_mha_ndims_3e6, crash_mha_key_past_255_bytes,
+// crash_mha_data_file_not_ascii):
+// MetaIO trusts its header. "NDims = 3000000e+00" made it read three million
+// numbers per array field (a hang); a key of 300 bytes overflowed its name
+// buffer (abort); bytes above 0x7e in the data file's name made it read past
+// its word array (ASan). The header's grammar is now checked before MetaIO sees it.
+TEST(Fuzz, MalformedMetaImageHeadersAreRefusedBeforeMetaIO) {
+  const fs::path dir = work_dir();
+  std::string voxels(60, '\x07');
+  voxels[5] = '\x30';
+  const auto header = [](const std::string& ndims, const std::string& extra) {
+    return "ObjectType = Image\nNDims = " + ndims + "\n" + extra + "DimSize = 5 4 3\nElementSpacing = 0.5 1 2\n" +
+           "ElementType = MET_UCHAR\nElementDataFile = LOCAL\n";
+  };
+  const std::vector<std::pair<std::string, std::vector<std::string>>> cases{
+      {header("3000000e+00", ""), {"line 2", "NDims '3000000e+00'", "integer 1 to 8"}},
+      {header("-3", ""), {"NDims '-3'"}},
+      {header("3", std::string(300, 'k') + " = 1\n"), {"line 3", "longer than 128"}},
+      {header("3", "Elem\xff" "ent = 1\n"), {"line 3", "not a letter, digit", "255"}},
+      {header("3", "Comment = caf\xc3\xa9\n"), {"line 3", "not printable ASCII"}},
+      {header("3", "just words\n"), {"line 3", "is not 'Key = value'"}},
+      {header("3", "Offset = 1 2\n"), {"line 3", "2 numbers for Offset; 3 are needed"}},
+      {header("3", "TransformMatrix = 1 0 0 0 1 0 0 0\n"), {"8 numbers for TransformMatrix; 9 are needed"}},
+      {header("3", "NDims = 2\n"), {"line 3", "repeats the field NDims"}},
+      {"ObjectType = Image\nDimSize = 5 4 3\nElementDataFile = LOCAL\n", {"line 2", "DimSize before NDims"}},
+      {"ObjectType = Image\nNDims = 3\nDimSize = 5 4 2.5\nElementDataFile = LOCAL\n", {"DimSize of 2.5"}},
+      {"ObjectType = Image\nNDims = 3\nDimSize = 5 4 3\n", {"no ElementDataFile line"}},
+      {"ObjectType = Image\nNDims = 3\nDimSize = 5 4 3\nElementDataFile = \x8d\x8d.raw\n", {"line 4", "141"}},
+  };
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    const fs::path file = dir / ("bad" + std::to_string(i) + ".mha");
+    const bool ends_early = cases[i].first.find("ElementDataFile") == std::string::npos;
+    write_text(file, cases[i].first + (ends_early ? "" : voxels));
+    std::vector<std::string> expected = cases[i].second;
+    expected.push_back("not a well-formed MetaImage header");
+    expect_refused(file, expected);
+  }
+  // The same header, well formed, reads; so do ITK's own extra fields.
+  write_text(dir / "good.mha", header("3", "Offset = 1 2 3\nTransformMatrix = 1 0 0 0 1 0 0 0 1\n"
+                                           "ITK_InputFilterName = MetaImageIO\nAnatomicalOrientation = RAI\n") + voxels);
+  EXPECT_EQ(gdm::read_volume((dir / "good.mha").string()).voxel_count(), 60u);
+}
+
+// fuzz_image_reader (corpus oom_mha_parsed_as_dicom): a .mha starting with
+// "DICM" went to every ITK reader; GDCM took it for DICOM and allocated the
+// 1.4 GB one element claimed. A file's extension now names its one reader.
+TEST(Fuzz, AFileIsReadByTheReaderItsExtensionNames) {
+  const fs::path dir = work_dir();
+  write(small_volume(false).GetPointer(), dir / "v.nrrd");
+  fs::copy_file(dir / "v.nrrd", dir / "nrrd-named.mha");
+  expect_refused(dir / "nrrd-named.mha", {"nrrd-named.mha", "not a readable image of the format its name gives"});
+  const auto slices = write_dicom_series(small_volume(false).GetPointer(), dir / "dicom");
+  fs::copy_file(slices.front(), dir / "dicom-named.nrrd");
+  expect_refused(dir / "dicom-named.nrrd", {"not a readable image of the format its name gives"});
+  EXPECT_GT(gdm::read_volume((dir / "dicom").string()).voxel_count(), 0u);
+  EXPECT_GT(gdm::read_volume((dir / "v.nrrd").string()).voxel_count(), 0u);
+}
+
 std::size_t open_file_descriptors() {
   std::size_t n = 0;
   for ([[maybe_unused]] const auto& entry : fs::directory_iterator("/proc/self/fd")) ++n;
