@@ -467,14 +467,40 @@ void check_nifti(const std::string& path, unsigned long long voxels, long double
                            "; the orientation must be finite");
     }
   };
+  // Finite is not enough: an sform of 1e22 and 1e-19 entries (and codes no
+  // NIfTI writer uses) kept that SVD iterating (a hang, found by
+  // fuzz_image_reader). So the codes must be NIfTI's (0 to 5), the sform's
+  // axes between 1e-6 and 1e6 mm long and not degenerate, and the
+  // quaternion's b, c, d at most 1.
+  for (const auto& [name, code] : {std::pair<const char*, int>{"qform_code", qform_code}, {"sform_code", sform_code}})
+    if (code < 0 || code > 5)
+      throw InvalidInput(path + ": the NIfTI header's " + name + " is " + std::to_string(code) +
+                         "; NIfTI's codes are 0 to 5");
   if (sform_code > 0) {
     check_finite("srow_x", 280, 400, 4);
     check_finite("srow_y", 296, 432, 4);
     check_finite("srow_z", 312, 464, 4);
+    Eigen::Matrix3d m;
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) m(r, c) = field(280 + 16 * r + 4 * c, 400 + 32 * r + 8 * c);
+    double product = 1.0;
+    for (int c = 0; c < 3; ++c) {
+      const double length = m.col(c).norm();
+      if (!(length >= 1e-6 && length <= 1e6))
+        throw InvalidInput(path + ": the NIfTI header's sform gives axis " + std::to_string(c) + " a voxel step of " +
+                           number(length) + " mm; a usable orientation has steps between 1e-6 and 1e6 mm");
+      product *= length;
+    }
+    if (!(std::abs(m.determinant()) >= 1e-6 * product))
+      throw InvalidInput(path + ": the NIfTI header's sform is degenerate (its axes are parallel)");
   }
   if (qform_code > 0) {
     check_finite("quatern_b/c/d", 256, 352, 3);
     check_finite("qoffset_x/y/z", 268, 376, 3);
+    for (int i = 0; i < 3; ++i)
+      if (!(std::abs(field(256 + 4 * i, 352 + 8 * i)) <= 1.0 + 1e-4))
+        throw InvalidInput(path + ": the NIfTI header's quatern_" + std::string(1, "bcd"[i]) + " is " +
+                           number(field(256 + 4 * i, 352 + 8 * i)) + "; a rotation's quaternion has entries of at most 1");
   }
   if (expected < 0) {
     file.reset();

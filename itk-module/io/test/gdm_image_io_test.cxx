@@ -648,6 +648,42 @@ TEST(Fuzz, MetaImageDataFileWithASpaceThatDoesNotExist) {
   EXPECT_EQ(gdm::read_volume((dir / "spaced.mhd").string()).voxel_count(), 60u);
 }
 
+// fuzz_image_reader (corpus timeout_nii_sform_1e22): finite but absurd
+// orientations (an sform mixing 1e22 and 1e-19, codes 29550 and 26473)
+// kept ITK's SVD iterating. Refused before ITK reads the header.
+TEST(Fuzz, NiftiWithAnAbsurdOrientationIsRefused) {
+  const fs::path dir = work_dir();
+  write(small_volume(false).GetPointer(), dir / "v.nii");
+  const std::string good = slurp(dir / "v.nii");
+  const auto with = [&](const std::string& name, const std::function<void(std::string&)>& change) {
+    std::string bytes = good;
+    change(bytes);
+    write_text(dir / name, bytes);
+    return dir / name;
+  };
+  const auto put16 = [](std::string& b, int at, std::int16_t v) { std::memcpy(&b[at], &v, 2); };
+  const auto putf = [](std::string& b, int at, float v) { std::memcpy(&b[at], &v, 4); };
+  expect_refused(with("code.nii", [&](std::string& b) { put16(b, 254, 29550); }), {"sform_code is 29550", "0 to 5"});
+  expect_refused(with("huge.nii", [&](std::string& b) {
+                   put16(b, 254, 1);
+                   putf(b, 280 + 4, 5.8e22f);
+                 }),
+                 {"sform gives axis 1 a voxel step of", "between 1e-6 and 1e6 mm"});
+  expect_refused(with("flat.nii", [&](std::string& b) {
+                   put16(b, 254, 1);
+                   for (int r = 0; r < 3; ++r)
+                     for (int c = 0; c < 3; ++c) putf(b, 280 + 16 * r + 4 * c, r == 0 ? 1.0f : 0.0f);
+                 }),
+                 {"sform is degenerate"});
+  expect_refused(with("quatern.nii", [&](std::string& b) {
+                   put16(b, 252, 1);
+                   put16(b, 254, 0);
+                   putf(b, 256, 6.9e11f);
+                 }),
+                 {"quatern_b is", "at most 1"});
+  EXPECT_GT(gdm::read_volume((dir / "v.nii").string()).voxel_count(), 0u);
+}
+
 // fuzz_image_reader (corpus timeout_mha_ndims_3e6, crash_mha_key_past_255_bytes,
 // crash_mha_data_file_not_ascii):
 // MetaIO trusts its header. "NDims = 3000000e+00" made it read three million
