@@ -462,9 +462,10 @@ void check_nifti(const std::string& path, unsigned long long voxels, long double
   const auto check_finite = [&](const char* name, int i1, int i2, int count) {
     for (int i = 0; i < count; ++i) {
       const double v = field(i1 + 4 * i, i2 + 8 * i);
-      if (!(std::abs(v) <= std::numeric_limits<float>::max()))
+      // An origin of -1.7e38 mm, finite, also kept ITK's SVD iterating (fuzz_image_reader).
+      if (!(std::abs(v) <= 1e9))
         throw InvalidInput(path + ": the NIfTI header's " + name + "[" + std::to_string(i) + "] is " + number(v) +
-                           "; the orientation must be finite");
+                           "; the orientation and origin must be finite and within 1e9 mm");
     }
   };
   // Finite is not enough: an sform of 1e22 and 1e-19 entries (and codes no

@@ -648,8 +648,9 @@ TEST(Fuzz, MetaImageDataFileWithASpaceThatDoesNotExist) {
   EXPECT_EQ(gdm::read_volume((dir / "spaced.mhd").string()).voxel_count(), 60u);
 }
 
-// fuzz_image_reader (corpus timeout_nii_sform_1e22): finite but absurd
-// orientations (an sform mixing 1e22 and 1e-19, codes 29550 and 26473)
+// fuzz_image_reader (corpus timeout_nii_sform_1e22, timeout_nii_offset_1e38): finite but absurd
+// orientations (an sform mixing 1e22 and 1e-19, codes 29550 and 26473, an
+// origin of -1.7e38 mm)
 // kept ITK's SVD iterating. Refused before ITK reads the header.
 TEST(Fuzz, NiftiWithAnAbsurdOrientationIsRefused) {
   const fs::path dir = work_dir();
@@ -666,7 +667,7 @@ TEST(Fuzz, NiftiWithAnAbsurdOrientationIsRefused) {
   expect_refused(with("code.nii", [&](std::string& b) { put16(b, 254, 29550); }), {"sform_code is 29550", "0 to 5"});
   expect_refused(with("huge.nii", [&](std::string& b) {
                    put16(b, 254, 1);
-                   putf(b, 280 + 4, 5.8e22f);
+                   putf(b, 280 + 4, 5.8e8f);
                  }),
                  {"sform gives axis 1 a voxel step of", "between 1e-6 and 1e6 mm"});
   expect_refused(with("flat.nii", [&](std::string& b) {
@@ -675,10 +676,15 @@ TEST(Fuzz, NiftiWithAnAbsurdOrientationIsRefused) {
                      for (int c = 0; c < 3; ++c) putf(b, 280 + 16 * r + 4 * c, r == 0 ? 1.0f : 0.0f);
                  }),
                  {"sform is degenerate"});
+  expect_refused(with("far.nii", [&](std::string& b) {
+                   put16(b, 254, 1);
+                   putf(b, 312 + 12, -1.7e38f);
+                 }),
+                 {"srow_z[3] is", "within 1e9 mm"});
   expect_refused(with("quatern.nii", [&](std::string& b) {
                    put16(b, 252, 1);
                    put16(b, 254, 0);
-                   putf(b, 256, 6.9e11f);
+                   putf(b, 256, 2.0f);
                  }),
                  {"quatern_b is", "at most 1"});
   EXPECT_GT(gdm::read_volume((dir / "v.nii").string()).voxel_count(), 0u);
@@ -785,7 +791,7 @@ TEST(Fuzz, NiftiWithANonFiniteOrientationIsRefusedNotAborted) {
     std::memcpy(&bytes[254], &code, 2);        // sform_code 1
     std::memcpy(&bytes[280 + 4], &nan, 4);     // srow_x[1]
     write_text(dir / "nan-srow.nii", bytes);
-    expect_refused(dir / "nan-srow.nii", {"srow_x[1] is nan", "orientation must be finite"});
+    expect_refused(dir / "nan-srow.nii", {"srow_x[1] is nan", "orientation and origin must be finite"});
   }
   {
     std::string bytes = good;
@@ -794,7 +800,7 @@ TEST(Fuzz, NiftiWithANonFiniteOrientationIsRefusedNotAborted) {
     std::memcpy(&bytes[254], &zero, 2);        // sform_code 0: the qform is used
     std::memcpy(&bytes[256 + 8], &inf, 4);     // quatern_d
     write_text(dir / "inf-quatern.nii", bytes);
-    expect_refused(dir / "inf-quatern.nii", {"quatern_b/c/d[2] is inf", "orientation must be finite"});
+    expect_refused(dir / "inf-quatern.nii", {"quatern_b/c/d[2] is inf", "orientation and origin must be finite"});
   }
   {
     // crash_nii_sizeof_hdr_476: the same with a sizeof_hdr that is neither 348
@@ -805,7 +811,7 @@ TEST(Fuzz, NiftiWithANonFiniteOrientationIsRefusedNotAborted) {
     std::memcpy(&bytes[254], &code, 2);
     std::memcpy(&bytes[280 + 8], &nan, 4);     // srow_x[2]
     write_text(dir / "odd-size.nii", bytes);
-    expect_refused(dir / "odd-size.nii", {"srow_x[2] is nan", "orientation must be finite"});
+    expect_refused(dir / "odd-size.nii", {"srow_x[2] is nan", "orientation and origin must be finite"});
   }
   EXPECT_NO_THROW(gdm::read_volume((dir / "v.nii").string()));
 }
