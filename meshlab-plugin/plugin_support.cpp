@@ -21,6 +21,7 @@ void log_result(const gdm::PipelineResult& r, LogLines* log) {
                  std::to_string(d.global_refinements) + " global refinements, " + std::to_string(d.rejected_moves) +
                  " moves vetoed by the self-intersection guard)");
   if (d.gap_closed_voxels > 0) log->push_back(gdm::gap_summary(d));
+  if (d.cavities > 0) log->push_back(gdm::cavity_summary(d));
   if (d.reason == gdm::StopReason::max_cycles)
     log->push_back("warning: the model did not converge; raise max_cycles or check the threshold");
   if (r.failure.empty()) log->push_back("result: " + gdm::to_string(r.report));

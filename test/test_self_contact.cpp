@@ -21,6 +21,9 @@ PipelineOptions grown_from(const Vec3& seed) {
   o.seed.kind = SeedKind::point;
   o.seed.point = seed;
   o.seed.radius = 1.5;
+  // The lined model these tests look at: filled (the default), the shell's
+  // cavity leaves no contact (test_cavities.cpp).
+  o.deform.fill_cavities = false;
   return o;
 }
 
@@ -44,6 +47,20 @@ TEST(SelfContact, a_shell_grown_from_one_side_meets_itself_across_the_object) {
   const std::vector<std::string> lines = describe_contacts(r.contacts);
   ASSERT_GE(lines.size(), 2u);
   EXPECT_NE(lines[1].find("cavity or a handle"), std::string::npos) << lines[1];
+}
+
+TEST(SelfContact, a_shell_filled_by_default_does_not_meet_itself) {
+  ph::Grid grid;
+  grid.dims = {40, 40, 40};
+  const Vec3 c = grid.center();
+  const Volume shell = ph::with_gaussian_noise(
+      ph::voxelize(grid, ph::difference(ph::sphere(c, 14.0), ph::sphere(c, 8.0)), kLow, kHigh - kLow), 0.05 * (kHigh - kLow), 5u);
+  PipelineOptions o = grown_from(c + Vec3(11.0, 0.0, 0.0));
+  o.deform.fill_cavities = true;
+  const PipelineResult r = extract_surface(shell, o);
+  ASSERT_TRUE(r.failure.empty()) << r.failure;
+  EXPECT_EQ(r.deform.cavities, 1u);
+  EXPECT_TRUE(r.contacts.regions.empty()) << describe_contacts(r.contacts).front();
 }
 
 TEST(SelfContact, a_ball_does_not_meet_itself) {

@@ -6,6 +6,7 @@
 #include <sstream>
 #include <vector>
 
+#include "gdm/cavities.h"
 #include "gdm/error_lod.h"
 #include "gdm/errors.h"
 #include "gdm/float_snap.h"
@@ -30,6 +31,16 @@ std::string to_string(StopReason reason) {
     case StopReason::border: return "reached the volume border";
   }
   return "unknown";
+}
+
+std::string cavity_summary(const DeformResult& r) {
+  if (r.cavities == 0) return {};
+  std::ostringstream s;
+  s << "cavities: " << r.cavities << " enclosed region" << (r.cavities == 1 ? "" : "s") << " of background filled ("
+    << r.cavity_voxels << " voxels, " << format_number(r.cavity_volume, 4) << " mm^3; the largest around ("
+    << format_number(r.largest_cavity_centre[0], 4) << ", " << format_number(r.largest_cavity_centre[1], 4) << ", "
+    << format_number(r.largest_cavity_centre[2], 4) << ") mm): the model is the object's outer surface";
+  return s.str();
 }
 
 std::string gap_summary(const DeformResult& r) {
@@ -660,9 +671,9 @@ DeformResult Deformer::run() {
 
 namespace {
 
-// The gap gate (passage.h) seeded by the model's vertices and centroid.
-PassageGate gate_for(const Mesh& mesh, const Volume& volume, const DeformOptions& o) {
-  if (!gap_gate_active(o.gap, volume)) return {};
+// The seed's vertices and centroid: where the gap gate and the cavity fill
+// find the object the model grows in.
+std::vector<Vec3> seed_points(const Mesh& mesh) {
   std::vector<Vec3> points;
   Vec3 centroid = Vec3::Zero();
   for (auto v : mesh.vertices()) {
@@ -670,6 +681,13 @@ PassageGate gate_for(const Mesh& mesh, const Volume& volume, const DeformOptions
     centroid += points.back();
   }
   points.push_back(centroid / static_cast<double>(std::max<std::size_t>(1, mesh.n_vertices())));
+  return points;
+}
+
+// The gap gate (passage.h) seeded by the model's vertices and centroid.
+PassageGate gate_for(const Mesh& mesh, const Volume& volume, const DeformOptions& o) {
+  if (!gap_gate_active(o.gap, volume)) return {};
+  const std::vector<Vec3> points = seed_points(mesh);
   PassageOptions passage;
   passage.gap = o.gap;
   passage.threshold = o.threshold;
@@ -678,15 +696,33 @@ PassageGate gate_for(const Mesh& mesh, const Volume& volume, const DeformOptions
   return gate_passages(volume, passage, points);
 }
 
+// The cavity fill (cavities.h) of the volume the model grows in, seeded by
+// the model's vertices and centroid.
+CavityFill cavities_for(const Mesh& mesh, const Volume& volume, const DeformOptions& o) {
+  if (!o.fill_cavities || o.mode != Mode::grow) return {};
+  CavityOptions c;
+  c.seed_points = seed_points(mesh);
+  c.threshold = o.threshold;
+  c.background_is_brighter = o.polarity == Polarity::object_darker;
+  c.gap = o.gap;
+  return fill_cavities(volume, c);
+}
+
 }  // namespace
 
 DeformResult deform(Mesh& mesh, const Volume& volume, const DeformOptions& options, const DeformObserver& observer) {
   validate(options, volume);
   Deformer(mesh, volume, volume, options, observer).check_seed();
   const PassageGate gate = gate_for(mesh, volume, options);
-  DeformResult result = Deformer(mesh, gate.applied ? gate.volume : volume, volume, options, observer).run();
+  const Volume& gated = gate.applied ? gate.volume : volume;
+  const CavityFill fill = cavities_for(mesh, gated, options);
+  DeformResult result = Deformer(mesh, fill.applied ? fill.volume : gated, volume, options, observer).run();
   result.gap_closed_voxels = gate.closed_voxels;
   result.gap_reachable_voxels = gate.reachable_voxels;
+  result.cavities = fill.cavities.size();
+  result.cavity_voxels = fill.voxels;
+  result.cavity_volume = static_cast<double>(fill.voxels) * volume.spacing().prod();
+  if (!fill.cavities.empty()) result.largest_cavity_centre = fill.cavities.front().centre;
   return result;
 }
 

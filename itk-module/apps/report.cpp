@@ -64,6 +64,7 @@ std::string summary_text(const RunRecord& r) {
   part(r.model.float_refused, "vertices not float-exact");
   if (!finish.empty()) s << "  after convergence: " << finish << "\n";
   if (r.model.gap_closed_voxels > 0) s << "  " << gdm::gap_summary(r.model) << "\n";
+  if (r.model.cavities > 0) s << "  " << gdm::cavity_summary(r.model) << "\n";
   for (const std::string& line : gdm::describe_contacts(r.contacts)) s << "  " << line << "\n";
   s << "  closed " << (m.closed ? "yes" : "NO") << ", manifold " << (m.two_manifold ? "yes" : "NO") << ", genus "
     << m.genus << ", components " << m.components << ", self-intersections " << m.self_intersections << "\n"
@@ -117,6 +118,9 @@ std::string report_json(const RunRecord& r, const Options& options) {
       .add("gap_closed_voxels", json_number(r.model.gap_closed_voxels))
       .add("gap_reachable_voxels", json_number(r.model.gap_reachable_voxels))
       .add("bridge_vertices", json_number(r.model.bridge_vertices))
+      .add("cavities", json_number(r.model.cavities))
+      .add("cavity_voxels", json_number(r.model.cavity_voxels))
+      .add("cavity_volume_mm3", json_number(r.model.cavity_volume))
       .add("seconds", json_number(r.model_seconds));
 
   const gdm::MeshReport& m = r.mesh;

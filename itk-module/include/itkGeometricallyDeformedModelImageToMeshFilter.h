@@ -324,6 +324,15 @@ public:
   itkSetMacro(GapSize, double);
   itkGetConstMacro(GapSize, double);
 
+  /** Growing, fill the background the outside cannot reach (a hollow
+   * shell's inside; with a gap size, chambers joined to the outside only
+   * through openings narrower than it) before the model grows: the model is
+   * the object's outer surface, without a double-walled sheet around each
+   * cavity. On by default. */
+  itkSetMacro(FillCavities, bool);
+  itkGetConstMacro(FillCavities, bool);
+  itkBooleanMacro(FillCavities);
+
   /** Sub-voxel final fit onto the threshold crossing (beyond the paper). */
   itkSetMacro(SubvoxelFit, bool);
   itkGetConstMacro(SubvoxelFit, bool);
@@ -396,6 +405,10 @@ public:
    * GapSize; 0 without a gate) and vertices of the caps over bridged openings. */
   itkGetConstMacro(NumberOfGapClosedVoxels, SizeValueType);
   itkGetConstMacro(NumberOfBridgeVertices, SizeValueType);
+  /** Enclosed regions of background FillCavities filled, and their volume
+   * (physical units^3). */
+  itkGetConstMacro(NumberOfFilledCavities, SizeValueType);
+  itkGetConstMacro(FilledCavityVolume, double);
   /** Where the model meets itself (two parts of the surface closer than a
    * voxel, facing each other): regions and their area (physical units^2).
    * A region across the object means the model grew around a cavity or a
@@ -481,6 +494,7 @@ private:
   double        m_MaximumTopologyRatio;
   double        m_RefinementTravel;
   double        m_GapSize;
+  bool          m_FillCavities;
   bool          m_SubvoxelFit;
   unsigned int  m_NumberOfFitPasses;
   double        m_FitMaximumDistance;
@@ -507,6 +521,8 @@ private:
   SizeValueType m_NumberOfFloatRefusedVertices{ 0 };
   SizeValueType m_NumberOfGapClosedVoxels{ 0 };
   SizeValueType m_NumberOfBridgeVertices{ 0 };
+  SizeValueType m_NumberOfFilledCavities{ 0 };
+  double        m_FilledCavityVolume{ 0.0 };
   SizeValueType m_NumberOfContactRegions{ 0 };
   double        m_ContactArea{ 0.0 };
 

@@ -62,6 +62,7 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::SetDeform
   m_MaximumTopologyRatio = o.max_topology_ratio;
   m_RefinementTravel = o.refinement_travel;
   m_GapSize = o.gap;
+  m_FillCavities = o.fill_cavities;
   m_SubvoxelFit = o.subvoxel_fit;
   m_NumberOfFitPasses = static_cast<unsigned int>(o.fit_passes);
   m_FitMaximumDistance = o.fit_max_distance;
@@ -148,6 +149,7 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::GetDeform
   o.max_topology_ratio = m_MaximumTopologyRatio;
   o.refinement_travel = m_RefinementTravel;
   o.gap = m_GapSize;
+  o.fill_cavities = m_FillCavities;
   o.subvoxel_fit = m_SubvoxelFit;
   o.fit_passes = static_cast<int>(std::min<unsigned int>(m_NumberOfFitPasses, 1000000u));
   o.fit_max_distance = m_FitMaximumDistance;
@@ -190,6 +192,8 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::GenerateD
   m_NumberOfFloatRefusedVertices = 0;
   m_NumberOfGapClosedVoxels = 0;
   m_NumberOfBridgeVertices = 0;
+  m_NumberOfFilledCavities = 0;
+  m_FilledCavityVolume = 0.0;
   m_NumberOfContactRegions = 0;
   m_ContactArea = 0.0;
   this->SetCurrentCycleReport(gdm::CycleReport{});
@@ -278,6 +282,8 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::GenerateD
     m_NumberOfFloatRefusedVertices = static_cast<SizeValueType>(result.float_refused);
     m_NumberOfGapClosedVoxels = static_cast<SizeValueType>(result.gap_closed_voxels);
     m_NumberOfBridgeVertices = static_cast<SizeValueType>(result.bridge_vertices);
+    m_NumberOfFilledCavities = static_cast<SizeValueType>(result.cavities);
+    m_FilledCavityVolume = result.cavity_volume;
     m_NumberOfContactRegions = static_cast<SizeValueType>(pipelineResult.contacts.regions.size());
     m_ContactArea = pipelineResult.contacts.area;
 
@@ -345,6 +351,7 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::PrintSelf
   os << indent << "MaximumTopologyRatio: " << m_MaximumTopologyRatio << std::endl;
   os << indent << "RefinementTravel: " << m_RefinementTravel << std::endl;
   os << indent << "GapSize: " << m_GapSize << std::endl;
+  os << indent << "FillCavities: " << m_FillCavities << std::endl;
   os << indent << "SubvoxelFit: " << (m_SubvoxelFit ? "On" : "Off") << std::endl;
   os << indent << "NumberOfFitPasses: " << m_NumberOfFitPasses << std::endl;
   os << indent << "FitMaximumDistance: " << m_FitMaximumDistance << std::endl;
@@ -368,6 +375,8 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::PrintSelf
   os << indent << "NumberOfFloatRefusedVertices: " << m_NumberOfFloatRefusedVertices << std::endl;
   os << indent << "NumberOfGapClosedVoxels: " << m_NumberOfGapClosedVoxels << std::endl;
   os << indent << "NumberOfBridgeVertices: " << m_NumberOfBridgeVertices << std::endl;
+  os << indent << "NumberOfFilledCavities: " << m_NumberOfFilledCavities << std::endl;
+  os << indent << "FilledCavityVolume: " << m_FilledCavityVolume << std::endl;
   os << indent << "NumberOfContactRegions: " << m_NumberOfContactRegions << std::endl;
   os << indent << "ContactArea: " << m_ContactArea << std::endl;
   os << indent << "CurrentCycle: " << m_CurrentCycle << std::endl;

@@ -182,7 +182,7 @@ ExerciseBasicsAndSetGet()
          "MaximumNumberOfCycles", "ConvergenceTolerance", "ConvergenceWindow", "PreventSelfIntersection",
          "ImproveTriangles", "FlipMaximumDihedralAngle", "MaximumNumberOfFaces", "SubvoxelFit", "NumberOfFitPasses",
          "FitMaximumDistance", "FitSmoothing", "LevelOfDetailTolerance", "LevelOfDetailMinimumAngle", "LevelOfDetailRounds",
-         "MaximumTopologyRatio", "RefinementTravel", "GapSize", "NumberOfGapClosedVoxels", "FloatExactOutput", "SeedCenter", "SeedRadius",
+         "MaximumTopologyRatio", "RefinementTravel", "GapSize", "NumberOfGapClosedVoxels", "FillCavities", "NumberOfFilledCavities", "FilledCavityVolume", "FloatExactOutput", "SeedCenter", "SeedRadius",
          "SeedSubdivisionLevel", "StopReason", "NumberOfCycles", "NumberOfGlobalRefinementsPerformed",
          "NumberOfRejectedMoves", "NumberOfFlips", "NumberOfBorderVertices", "NumberOfFitMoves",
          "NumberOfLevelOfDetailSplits", "NumberOfLevelOfDetailCollapses", "NumberOfFloatRefusedVertices",

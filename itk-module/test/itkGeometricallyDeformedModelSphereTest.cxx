@@ -310,3 +310,53 @@ TEST(itkGDMSphere, GapSizeBridgesTheOpeningOfABottle)
   }
   EXPECT_LT(farthest, inner + 1.0) << "the cap over the opening strays into it";
 }
+
+// A bright hollow sphere (radii 9 to 14) grown from a seed in its wall
+// (issue 15): FillCavities (on by default) fills the cavity, the output is
+// the outer sphere and the filter says what it filled; off, the model lines
+// the cavity.
+TEST(itkGDMSphere, FillCavitiesGivesTheOuterSurfaceOfAHollowSphere)
+{
+  using ShellImage = itk::Image<float, 3>;
+  auto                   image = ShellImage::New();
+  ShellImage::RegionType region;
+  ShellImage::SizeType   size;
+  size.Fill(40);
+  region.SetSize(size);
+  image->SetRegions(region);
+  image->Allocate();
+  const double c = 19.5, inner = 9.0, outer = 14.0;
+  for (itk::ImageRegionIteratorWithIndex<ShellImage> it(image, region); !it.IsAtEnd(); ++it)
+  {
+    const auto   i = it.GetIndex();
+    const double r = std::sqrt((i[0] - c) * (i[0] - c) + (i[1] - c) * (i[1] - c) + (i[2] - c) * (i[2] - c));
+    it.Set(static_cast<float>(50.0 + 150.0 * std::clamp(0.5 - std::max(r - outer, inner - r), 0.0, 1.0)));
+  }
+  using FilterType = itk::GeometricallyDeformedModelImageToMeshFilter<ShellImage, itk::Mesh<float, 3>>;
+  FilterType::PointType centre;
+  centre.Fill(c);
+  const auto run = [&](bool fill) {
+    auto filter = FilterType::New();
+    filter->SetInput(image);
+    filter->SetThreshold(125.0);
+    FilterType::PointType seed = centre;
+    seed[0] += 11.5;
+    filter->SetSeedCenter(seed);
+    filter->SetSeedRadius(1.5);
+    filter->SetFillCavities(fill);
+    filter->Update();
+    double nearest = 1e9;
+    for (auto it = filter->GetOutput()->GetPoints()->Begin(); it != filter->GetOutput()->GetPoints()->End(); ++it)
+      nearest = std::min(nearest, static_cast<double>(it.Value().EuclideanDistanceTo(centre)));
+    return std::make_pair(filter, nearest);
+  };
+  EXPECT_TRUE(FilterType::New()->GetFillCavities());
+  const auto [solid, solid_nearest] = run(true);
+  EXPECT_EQ(solid->GetNumberOfFilledCavities(), 1u);
+  EXPECT_GT(solid->GetFilledCavityVolume(), 2500.0);  // 4/3 pi 9^3 = 3,054
+  EXPECT_GT(solid_nearest, outer - 1.0) << "a vertex lies inside the wall or the cavity";
+  EXPECT_EQ(solid->GetNumberOfContactRegions(), 0u);
+  const auto [lined, lined_nearest] = run(false);
+  EXPECT_EQ(lined->GetNumberOfFilledCavities(), 0u);
+  EXPECT_LT(lined_nearest, inner + 1.0) << "off, the model should line the cavity";
+}

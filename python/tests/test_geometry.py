@@ -177,3 +177,24 @@ def test_gap_bridges_the_opening_of_a_bottle():
     assert model["gap_closed_voxels"] > 0 and model["bridge_vertices"] > 0 and model["border_vertices"] == 0
     distance = np.linalg.norm(np.asarray(result.vertices) - c, axis=1)
     assert distance.max() < 13.0  # the cap continues the cavity's wall (radius 12)
+
+
+def test_a_hollow_shell_gives_its_outer_surface():
+    """fill_cavities (on by default): a model grown in the wall of a hollow
+    sphere is the outer sphere, and the report says what was filled; off, the
+    model lines the cavity and the report names where it meets itself."""
+    n, inner, outer = 40, 9.0, 14.0
+    c = (n - 1) / 2.0
+    i, j, k = np.meshgrid(*[np.arange(n, dtype=float) - c] * 3, indexing="ij")
+    r = np.sqrt(i * i + j * j + k * k)
+    wall = np.maximum(r - outer, inner - r)
+    volume = np.asfortranarray((50.0 + 150.0 * np.clip(0.5 - wall, 0.0, 1.0)).astype(np.float32))
+    seed = (c + 11.5, c, c)
+    solid = gdm.extract_surface(volume, threshold=125, seed=seed, seed_radius=1.5)
+    assert solid.report["model"]["cavities"] == 1
+    assert solid.report["model"]["cavity_volume_mm3"] > 2500.0  # 4/3 pi 9^3 = 3,054
+    assert solid.report["contacts"]["regions"] == 0
+    assert np.linalg.norm(np.asarray(solid.vertices) - c, axis=1).min() > outer - 1.0
+    lined = gdm.extract_surface(volume, threshold=125, seed=seed, seed_radius=1.5, fill_cavities=False)
+    assert lined.report["model"]["cavities"] == 0
+    assert np.linalg.norm(np.asarray(lined.vertices) - c, axis=1).min() < inner + 1.0

@@ -38,6 +38,11 @@ struct DeformOptions {
                                      // rolls from the seed (passage.h): openings narrower than G are
                                      // bridged, channels wider are followed; 0 (or up to two voxels) =
                                      // no gate, every channel two voxels wide is open
+  bool fill_cavities = true;         // growing, background the outside cannot reach (a hollow shell's
+                                     // inside; with a gap G, chambers joined to the outside only through
+                                     // openings narrower than G) is given to the object first
+                                     // (cavities.h): the model is the outer surface, with no
+                                     // double-walled sheet around the cavity
   bool refine_channels = false;      // once the last stage converged, refine locally where faces are too
                                      // large to enter a channel the image shows (so the level of detail
                                      // sets face sizes, the gap where the model goes); off by default: on
@@ -108,6 +113,10 @@ struct DeformResult {
   std::size_t gap_closed_voxels = 0;     // free voxels no ball of the gap size reaches from the seed (0: no gate)
   std::size_t gap_reachable_voxels = 0;  // free voxels it reaches (0: no gate)
   std::size_t bridge_vertices = 0;       // vertices of the caps over bridged openings
+  std::size_t cavities = 0;              // enclosed regions of background filled before growing (fill_cavities)
+  std::size_t cavity_voxels = 0;         // their voxels
+  double cavity_volume = 0.0;            // their volume, mm^3
+  Vec3 largest_cavity_centre = Vec3::Zero();  // centroid of the largest, mm
   std::size_t float_refused = 0;  // vertices float_exact_output could not move safely (0 in practice)
 };
 
@@ -115,6 +124,11 @@ struct DeformResult {
 // channels narrower than the gap closed (12,345 reachable); caps over the
 // bridged openings: 60 vertices". Empty when no gate was built.
 std::string gap_summary(const DeformResult& result);
+
+// What the cavity fill did, for logs: "cavities: 2 enclosed regions of
+// background filled (1,234 voxels, 1234 mm^3; the largest around (12.5, 40,
+// 8) mm): the model is the object's outer surface". Empty when none.
+std::string cavity_summary(const DeformResult& result);
 
 // Checks the options against the volume; throws InvalidOption or InvalidVolume.
 void validate(const DeformOptions& options, const Volume& volume);

@@ -952,6 +952,45 @@ TEST(Model, GapBridgesTheOpeningOfABottle) {
   EXPECT_LT(farthest, 13.0) << "the cap strays into the opening";
 }
 
+// A bright hollow sphere (radii 9 to 14 voxels) grown from a seed in its
+// wall: by default the cavity is filled and the model is the outer sphere;
+// the summary and the report say so. With --fill-cavities off the model
+// lines the cavity, and the summary reports where it meets itself.
+TEST(Model, AHollowShellGivesItsOuterSurface) {
+  const fs::path dir = work_dir();
+  namespace ph = gdm::phantoms;
+  ph::Grid grid;
+  grid.dims = {40, 40, 40};
+  const gdm::Vec3 c = grid.center();
+  const gdm::Volume shell = ph::voxelize(grid, ph::difference(ph::sphere(c, 14.0), ph::sphere(c, 9.0)), 50.0, 150.0);
+  using FloatImage = itk::Image<float, 3>;
+  auto image = FloatImage::New();
+  image->SetRegions(FloatImage::RegionType(FloatImage::SizeType{{40, 40, 40}}));
+  image->Allocate();
+  std::copy(shell.values().begin(), shell.values().end(), image->GetBufferPointer());
+  itk::WriteImage(image, (dir / "shell.mha").string());
+  const std::string seed = std::to_string(c.x() + 11.5) + "," + std::to_string(c.y()) + "," + std::to_string(c.z());
+  const std::vector<std::string> common = {"shell.mha", "--threshold", "125", "--seed", seed, "--seed-radius", "1.5"};
+  std::vector<std::string> solid = common, lined = common;
+  solid.insert(solid.end(), {"-o", "solid.ply", "--report", "solid.json"});
+  lined.insert(lined.end(), {"--fill-cavities", "off", "-o", "lined.ply", "--report", "lined.json"});
+  const GdmRun s = run_gdm(dir, solid);
+  ASSERT_EQ(s.code, 0) << s.err;
+  EXPECT_NE(s.out.find("cavities: 1 enclosed region of background filled"), std::string::npos) << s.out;
+  EXPECT_EQ(s.out.find("meets itself"), std::string::npos) << s.out;
+  const std::string json = slurp(dir / "solid.json");
+  EXPECT_EQ(json_value(json, "cavities"), 1.0);
+  EXPECT_GT(json_value(json, "cavity_volume_mm3"), 2500.0);  // 4/3 pi 9^3 = 3,054 mm^3
+  double nearest = 1e9;
+  for (const auto& p : read_mesh(dir / "solid.ply").points)
+    nearest = std::min(nearest, std::hypot(p[0] - c.x(), p[1] - c.y(), p[2] - c.z()));
+  EXPECT_GT(nearest, 13.0) << "a vertex lies inside the shell's wall or cavity";
+  const GdmRun l = run_gdm(dir, lined);
+  ASSERT_EQ(l.code, 0) << l.err;
+  EXPECT_EQ(l.out.find("cavities:"), std::string::npos) << l.out;
+  EXPECT_EQ(json_value(slurp(dir / "lined.json"), "cavities"), 0.0);
+}
+
 // ------------------------------------------------------------- phantom --
 
 TEST(Phantom, GeneratorReproducesTheCommittedFile) {
