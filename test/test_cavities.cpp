@@ -181,7 +181,7 @@ TEST(Cavities, the_tooth_from_the_dentin_is_its_outer_surface) {
   Mesh mesh = make_geodesic_sphere(seed, 3.0, 1);
   const DeformResult r = deform(mesh, tooth, o);
   test::expect_valid_closed_surface(mesh);
-  ASSERT_GE(r.cavities, 1u);
+  ASSERT_EQ(r.cavities, 1u);  // the pulp chamber; a few specks of noise besides
   const double area = measure(mesh).area, contacts = contact_area(mesh, tooth.voxel_size());
 
   // Reference: background not joined to the border by 6-connected background is filled.

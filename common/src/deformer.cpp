@@ -40,6 +40,9 @@ std::string cavity_summary(const DeformResult& r) {
     << r.cavity_voxels << " voxels, " << format_number(r.cavity_volume, 4) << " mm^3; the largest around ("
     << format_number(r.largest_cavity_centre[0], 4) << ", " << format_number(r.largest_cavity_centre[1], 4) << ", "
     << format_number(r.largest_cavity_centre[2], 4) << ") mm): the model is the object's outer surface";
+  if (r.cavity_specks > 0)
+    s << "; " << r.cavity_specks << " speck" << (r.cavity_specks == 1 ? "" : "s") << " (under "
+      << kCavitySpeckVoxels << " voxels: noise, narrow grooves) filled too";
   return s.str();
 }
 
@@ -719,10 +722,15 @@ DeformResult deform(Mesh& mesh, const Volume& volume, const DeformOptions& optio
   DeformResult result = Deformer(mesh, fill.applied ? fill.volume : gated, volume, options, observer).run();
   result.gap_closed_voxels = gate.closed_voxels;
   result.gap_reachable_voxels = gate.reachable_voxels;
-  result.cavities = fill.cavities.size();
-  result.cavity_voxels = fill.voxels;
-  result.cavity_volume = static_cast<double>(fill.voxels) * volume.spacing().prod();
-  if (!fill.cavities.empty()) result.largest_cavity_centre = fill.cavities.front().centre;
+  for (const Cavity& c : fill.cavities) {  // largest first
+    if (c.voxels < kCavitySpeckVoxels) {
+      ++result.cavity_specks;
+      continue;
+    }
+    if (result.cavities++ == 0) result.largest_cavity_centre = c.centre;
+    result.cavity_voxels += c.voxels;
+  }
+  result.cavity_volume = static_cast<double>(result.cavity_voxels) * volume.spacing().prod();
   return result;
 }
 

@@ -121,6 +121,7 @@ std::string report_json(const RunRecord& r, const Options& options) {
       .add("cavities", json_number(r.model.cavities))
       .add("cavity_voxels", json_number(r.model.cavity_voxels))
       .add("cavity_volume_mm3", json_number(r.model.cavity_volume))
+      .add("cavity_specks", json_number(r.model.cavity_specks))
       .add("seconds", json_number(r.model_seconds));
 
   const gdm::MeshReport& m = r.mesh;

@@ -644,6 +644,7 @@ py::dict model_report(const gdm::DeformResult& r, double seconds) {
   d["cavities"] = r.cavities;
   d["cavity_voxels"] = r.cavity_voxels;
   d["cavity_volume_mm3"] = r.cavity_volume;
+  d["cavity_specks"] = r.cavity_specks;
   d["seconds"] = seconds;
   return d;
 }

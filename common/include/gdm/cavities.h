@@ -42,6 +42,10 @@ struct Cavity {
   Vec3 centre = Vec3::Zero();  // their centroid, mm
 };
 
+// A cavity of fewer voxels than this is a speck of noise inside the object:
+// filled like any other, but logs count it apart (no alarm on a noisy ball).
+constexpr std::size_t kCavitySpeckVoxels = 8;
+
 struct CavityFill {
   bool applied = false;        // false: no cavity, `volume` is empty, use the input
   Volume volume;               // the input with every cavity voxel mirrored about T to the object's side

@@ -113,10 +113,12 @@ struct DeformResult {
   std::size_t gap_closed_voxels = 0;     // free voxels no ball of the gap size reaches from the seed (0: no gate)
   std::size_t gap_reachable_voxels = 0;  // free voxels it reaches (0: no gate)
   std::size_t bridge_vertices = 0;       // vertices of the caps over bridged openings
-  std::size_t cavities = 0;              // enclosed regions of background filled before growing (fill_cavities)
+  std::size_t cavities = 0;              // enclosed regions of background filled before growing
+                                         // (fill_cavities), of at least kCavitySpeckVoxels voxels
   std::size_t cavity_voxels = 0;         // their voxels
   double cavity_volume = 0.0;            // their volume, mm^3
   Vec3 largest_cavity_centre = Vec3::Zero();  // centroid of the largest, mm
+  std::size_t cavity_specks = 0;         // smaller enclosed regions (specks of noise), filled too
   std::size_t float_refused = 0;  // vertices float_exact_output could not move safely (0 in practice)
 };
 
