@@ -106,7 +106,7 @@ TEST(Pipeline, shrink_from_the_volume_box) {
   o.deform.mode = Mode::shrink;
   const PipelineResult r = extract_surface(volume, o);
   ASSERT_TRUE(r.failure.empty()) << r.failure;
-  EXPECT_EQ(r.choices.seed_source, "box");
+  EXPECT_EQ(r.choices.seed_source, "sphere");
   EXPECT_NEAR(r.report.volume, 4.0 / 3.0 * M_PI * 729.0, 0.05 * 4.0 / 3.0 * M_PI * 729.0);
 }
 

@@ -26,10 +26,14 @@ ImageEvent::ImageEvent(double weight, const Volume& volume, double threshold, Po
   const bool object_brighter = polarity == Polarity::object_brighter;
   const bool blocked_is_object = mode == Mode::shrink;
   sign_ = (object_brighter == blocked_is_object) ? 1.0 : -1.0;
+  outside_is_free_ = mode == Mode::shrink;
 }
 
 double ImageEvent::excess(const Vec3& x) const {
-  if (!volume_->contains(x)) return std::numeric_limits<double>::infinity();
+  // Outside the volume: blocked when growing (the model stays in the
+  // image); background when shrinking, so a seed around an object that the
+  // scan cuts may start outside and close it at the border.
+  if (!volume_->contains(x)) return outside_is_free_ ? -inv_scale_ : std::numeric_limits<double>::infinity();
   return sign_ * (volume_->sample(x) - threshold_) * inv_scale_;
 }
 

@@ -140,6 +140,7 @@ class Deformer {
   std::size_t count_border_vertices() const;
   void finish(int cycle, DeformResult& result);
   bool held_by_gate(Mesh::VertexHandle v) const;
+  std::size_t coarsen_shrunk_faces();
   bool object_ahead(Mesh::FaceHandle f) const;
   bool at_wall(Mesh::VertexHandle v) const;
   bool in_the_open(const Vec3& p) const;
@@ -182,7 +183,7 @@ void Deformer::check_seed() const {
   Vec3 centroid = Vec3::Zero();
   for (auto v : mesh_.vertices()) {
     const Vec3 p = to_eigen(mesh_.point(v));
-    if (!volume_.contains(p)) {
+    if (!volume_.contains(p) && o_.mode == Mode::grow) {  // shrinking, the outside is background
       std::ostringstream s;
       s << "seed vertex " << v.idx() << " at (" << p.x() << ", " << p.y() << ", " << p.z()
         << ") mm lies outside the volume";
@@ -571,6 +572,29 @@ void Deformer::finish(int cycle, DeformResult& result) {
   mesh_.release_face_status();
 }
 
+// Beyond the paper: a shrinking model's faces shrink with it (a sphere
+// shrunk to half its radius has faces a quarter of the level of detail), and
+// a global refinement would quarter them again. So before each global
+// refinement in shrink mode, edges shorter than half the level of detail's
+// edge are collapsed, shortest first, each one checked like the error-driven
+// level of detail's (link condition, no self-intersection, no new angle
+// below lod_min_angle, new faces within half a voxel of the threshold
+// surface). The stage's per-vertex state is rebuilt after the refinement.
+std::size_t Deformer::coarsen_shrunk_faces() {
+  CollapseOptions c;
+  c.max_length = 0.5 * lod_edge_length(o_, voxel_);
+  c.tolerance = 0.5 * voxel_;
+  c.search = 1.5 * voxel_;
+  c.min_angle = o_.lod_min_angle;
+  const std::size_t collapses = collapse_flat_edges(mesh_, &volume_, o_.threshold, c);  // one pass
+  mesh_.garbage_collection();
+  mesh_.release_vertex_status();
+  mesh_.release_edge_status();
+  mesh_.release_halfedge_status();
+  mesh_.release_face_status();
+  return collapses;
+}
+
 // A vertex the gap gate holds: just outside it, the model's volume is
 // closed while the caller's is free (an opening narrower than the gap).
 bool Deformer::held_by_gate(Mesh::VertexHandle v) const {
@@ -645,6 +669,8 @@ DeformResult Deformer::run() {
       break;
     }
     // Section 6: after a first convergence, refine globally and converge again.
+    // (Not with an obstacle: a collapse is not checked against it.)
+    if (o_.mode == Mode::shrink && !o_.obstacle) result.lod_collapses += coarsen_shrunk_faces();
     subdivide_all(mesh_, cycle);
     ++report_.stage;
     step_.clear();

@@ -232,8 +232,11 @@ std::size_t collapse_flat_edges(Mesh& mesh, const Volume* volume, double thresho
   CollapseChecker checker(mesh, 2.0 * sum / static_cast<double>(order.size()));
   std::size_t collapses = 0;
   for (const auto& [len, ei] : order) {
+    if (len >= o.max_length) break;  // shortest first: the rest are longer
     const Mesh::EdgeHandle e(ei);
     if (mesh.status(e).deleted()) continue;
+    // Earlier collapses lengthen their neighbours' edges: the limit holds for the edge as it is now.
+    if (o.max_length < std::numeric_limits<double>::infinity() && mesh.calc_edge_length(e) >= o.max_length) continue;
     for (int side = 0; side < 2; ++side) {
       const auto h = mesh.halfedge_handle(e, side);
       if (!collapse_keeps_topology(mesh, h)) continue;

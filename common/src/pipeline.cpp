@@ -140,10 +140,10 @@ Mesh choose_seed(const Volume& input, const Volume& volume, const PipelineOption
   switch (s.kind) {
     case SeedKind::automatic:
       if (d.mode == Mode::shrink) {
-        choices.seed_source = "box";
-        Mesh box = make_volume_box(volume);
-        choices.seed_faces = box.n_faces();
-        return box;
+        choices.seed_source = "sphere";
+        Mesh sphere = make_enclosing_sphere(volume, d.threshold, d.polarity);
+        choices.seed_faces = sphere.n_faces();
+        return sphere;
       } else {
         const AutoSeed a = find_auto_seed(volume, d.threshold, d.polarity);
         choices.seed_source = "auto";
@@ -269,8 +269,9 @@ std::vector<std::string> describe_choices(const PreparedModel& p) {
   std::vector<std::string> lines;
   lines.push_back("threshold " + num(c.threshold) + " (" + c.threshold_source + "), object " +
                   (darker ? "darker" : "brighter") + ", mode " + (p.deform.mode == Mode::grow ? "grow" : "shrink"));
-  if (c.seed_source == "box") {
-    lines.push_back("seed: a box one voxel inside the volume (shrink mode)");
+  if (c.seed_source == "sphere") {
+    lines.push_back("seed: a sphere through the corners of the box around the object's voxels (shrink mode, " +
+                    std::to_string(c.seed_faces) + " faces; outside the volume counts as background)");
   } else if (c.seed_source == "auto") {
     const AutoSeed& a = c.auto_seed;
     lines.push_back("seed: auto, centre " + point_text(a.center) + " mm (voxel " + std::to_string(a.index[0]) + ", " +

@@ -182,6 +182,38 @@ Mesh make_volume_box(const Volume& volume, double inset_voxels) {
   return box;
 }
 
+Mesh make_enclosing_sphere(const Volume& volume, double threshold, Polarity polarity, int level,
+                           double margin_voxels) {
+  if (!std::isfinite(threshold)) throw InvalidOption("enclosing sphere: the threshold must be finite");
+  const Index3& n = volume.dims();
+  Vec3 lo = Vec3::Constant(kInf), hi = Vec3::Constant(-kInf);
+  const bool brighter = polarity == Polarity::object_brighter;
+  for (int k = 0; k < n[2]; ++k)
+    for (int j = 0; j < n[1]; ++j)
+      for (int i = 0; i < n[0]; ++i) {
+        const double v = volume.at(i, j, k);
+        if (brighter ? !(v >= threshold) : !(v <= threshold)) continue;
+        const Vec3 p(i, j, k);
+        lo = lo.cwiseMin(p);
+        hi = hi.cwiseMax(p);
+      }
+  if (!(lo.array() <= hi.array()).all()) {
+    lo = Vec3::Zero();
+    hi = Vec3(n[0] - 1, n[1] - 1, n[2] - 1);
+  }
+  lo -= Vec3::Constant(margin_voxels);
+  hi += Vec3::Constant(margin_voxels);
+  // The sphere around the box's corners, in physical space.
+  const Vec3 centre = volume.to_physical(0.5 * (lo + hi));
+  double radius = 0.0;
+  for (int corner = 0; corner < 8; ++corner) {
+    Vec3 index;
+    for (int d = 0; d < 3; ++d) index[d] = (corner >> d) & 1 ? hi[d] : lo[d];
+    radius = std::max(radius, (volume.to_physical(index) - centre).norm());
+  }
+  return make_geodesic_sphere(centre, radius, level);
+}
+
 Mesh prepare_seed_mesh(const Mesh& mesh, bool* reversed) {
   if (reversed) *reversed = false;
   check_seed_mesh(mesh);  // non-empty, finite, triangles, closed, 2-manifold

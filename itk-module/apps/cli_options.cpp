@@ -245,7 +245,7 @@ std::vector<OptionSpec> make_table() {
       row("--threshold", "T|otsu", "image units (HU for CT)", pre, "iso-value T of eq. 2; otsu = Otsu's method", threshold()),
   };
   from_catalogue(table, pre);
-  table.push_back(row("--seed", "auto|X,Y,Z", "mm", seed, "seed centre (physical); auto = deepest point of the largest object region (a box inside the volume with --mode shrink)", seed_point()));
+  table.push_back(row("--seed", "auto|X,Y,Z", "mm", seed, "seed centre (physical); auto = deepest point of the largest object region (with --mode shrink: a sphere around the object's voxels)", seed_point()));
   table.push_back(row("--seed-index", "I,J,K", "voxels", seed, "seed centre as a voxel index of the input (also with --roi)", seed_index(), "none"));
   table.push_back(row("--seed-mesh", "FILE", "", seed, "closed triangle seed mesh (.ply/.obj/.off/.stl/.vtk, mm)", seed_mesh(), "none"));
   from_catalogue(table, seed);

@@ -31,7 +31,7 @@ struct RunRecord {
   InputInfo input;
   double threshold = 0.0;
   std::string threshold_source;     // "given", "otsu", "phantom default"
-  std::string seed_source;          // "auto", "point", "index", "mesh", "box"
+  std::string seed_source;          // "auto", "point", "index", "mesh", "sphere"
   std::array<double, 3> seed_center{0, 0, 0};
   double seed_radius = 0.0;
   double seed_depth = 0.0;          // --seed auto: distance to the region's boundary, mm

@@ -70,6 +70,7 @@ class ImageEvent {
   double threshold_;
   double sign_;  // +1 when the blocked region is brighter than T
   double inv_scale_;
+  bool outside_is_free_ = false;  // shrinking: outside the volume is background
 };
 
 // T, the topology (curvature) term (section 3.1.3, eq. 3): the distance from

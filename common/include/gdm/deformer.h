@@ -109,7 +109,8 @@ struct DeformResult {
   std::size_t border_vertices = 0;  // vertices within one voxel of the volume's border (a leak)
   std::size_t fit_moves = 0;      // vertex moves of the sub-voxel fit
   std::size_t lod_splits = 0;     // edges split by the error-driven level of detail
-  std::size_t lod_collapses = 0;  // edges collapsed by the error-driven level of detail
+  std::size_t lod_collapses = 0;  // edges collapsed by the error-driven level of detail (and, shrinking,
+                                  // before each global refinement: Deformer::coarsen_shrunk_faces)
   std::size_t gap_closed_voxels = 0;     // free voxels no ball of the gap size reaches from the seed (0: no gate)
   std::size_t gap_reachable_voxels = 0;  // free voxels it reaches (0: no gate)
   std::size_t bridge_vertices = 0;       // vertices of the caps over bridged openings

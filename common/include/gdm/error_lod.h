@@ -6,6 +6,8 @@
 // (exact predicates), without flipped faces and above a triangle-quality floor.
 #pragma once
 
+#include <limits>
+
 #include <cstddef>
 #include <vector>
 
@@ -53,6 +55,7 @@ struct CollapseOptions {
   double min_angle = 15.0;        // quality floor: smallest angle of a new face, degrees (or the
                                   // smallest angle already there, when lower)
   double max_normal_change = 45.0;  // a new face turns at most this much from the old one, degrees
+  double max_length = std::numeric_limits<double>::infinity();  // only edges shorter than this, mm
 };
 
 // Checks collapses geometrically against the whole mesh: a uniform grid over

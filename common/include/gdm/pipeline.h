@@ -35,7 +35,7 @@ class ModelFailed : public Error {
 };
 
 enum class SeedKind {
-  automatic,  // grow: the deepest point of the largest object region; shrink: a box just inside the volume
+  automatic,  // grow: the deepest point of the largest object region; shrink: a sphere around the object's voxels (seeding.h)
   point,      // a sphere around `point` (mm)
   index,      // a sphere around the centre of voxel `index` (of the volume before the roi)
   mesh        // the user's closed mesh `mesh`
@@ -78,7 +78,7 @@ void validate(const PipelineOptions& options);
 struct PipelineChoices {
   double threshold = 0.0;          // T used
   std::string threshold_source;    // "otsu" or "given"
-  std::string seed_source;         // "auto", "box", "point", "index" or "mesh"
+  std::string seed_source;         // "auto", "sphere" (shrink), "point", "index" or "mesh"
   Vec3 seed_center = Vec3::Zero(); // sphere seeds
   double seed_radius = 0.0;        // sphere seeds, mm
   std::size_t seed_faces = 0;      // faces of the seed mesh

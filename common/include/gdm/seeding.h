@@ -1,5 +1,5 @@
 // Seeds from the image (paper section 4: the seed only changes the time, not
-// the result): the automatic seed, the shrink-mode box, and the checks a seed
+// the result): the automatic seed, the shrink-mode sphere (and box), and the checks a seed
 // mesh given by a user must pass before it is deformed.
 #pragma once
 
@@ -38,6 +38,18 @@ AutoSeed find_auto_seed(const Volume& volume, double threshold, Polarity polarit
 // Throws InvalidOption when the inset is negative, not finite, or leaves no
 // box (2 * inset >= dims - 1 on an axis).
 Mesh make_volume_box(const Volume& volume, double inset_voxels = 1.0);
+
+// The seed of shrink mode: the sphere through the corners of the box around
+// the object's voxels (those on the object's side of T, by `polarity`) grown
+// by `margin_voxels`, a geodesic sphere of `level` subdivisions, outward.
+// It may extend past the volume, where shrink mode counts the outside as
+// background. A box's edges and corners fold into fins as they shrink (on a
+// sphere phantom, half the model's surface lay against itself), and so do
+// the ends of an elongated ellipsoid; a sphere shrinks into itself without
+// creases until it meets the object. Without object voxels, the whole
+// volume's box is used. Throws InvalidOption for a non-finite threshold.
+Mesh make_enclosing_sphere(const Volume& volume, double threshold, Polarity polarity, int level = 3,
+                           double margin_voxels = 2.0);
 
 // Makes a user's seed mesh safe to deform: throws InvalidSeed (naming the
 // problem) unless it is non-empty, finite, closed, 2-manifold, free of
