@@ -57,6 +57,10 @@ DeformOptions model_options(const WrapOptions& w) {
   o.threads = w.threads;
   // The wrap bridges the input's holes: no refinement to enter what lies behind them.
   o.refine_channels = false;
+  // No triangle-quality pass inside the wrap's deformations: the fairing of
+  // the vertices over holes runs after them and would undo it (a pass after
+  // the fairing, with the obstacle, is not done yet).
+  o.min_angle = 0.0;
   return o;
 }
 

@@ -329,12 +329,17 @@ bool QualityPass::try_relax(Mesh::VertexHandle v) {
     if (!std::isfinite(best)) continue;  // q left the ring
     q = on;
     double after = 180.0;
+    std::vector<Tri> moved;
     for (auto f : mesh_.vf_range(v)) {
       Tri t;
       int i = 0;
       for (auto w : mesh_.fv_range(f)) t[i++] = w == v ? q : pos(mesh_, w);
       after = std::min(after, triangle_min_angle(t[0], t[1], t[2]));
+      moved.push_back(t);
     }
+    // The vertex's old place stays within the error bound of its new faces
+    // (a vertex on a crease does not cut the edge off).
+    if (max_error_ > 0.0 && distance_to(p, moved) > max_error_) continue;
     if (after > before + 1e-6) candidates.push_back({q, after, fraction});
   }
   std::stable_sort(candidates.begin(), candidates.end(), [&](const Candidate& x, const Candidate& y) {
