@@ -104,10 +104,16 @@ class QualityPass {
   Mesh& mesh_;
   const QualityOptions& o_;
   double bound_;
+  std::size_t undone_ = 0;  // splits undone by the last collapse phase
   double max_error_ = 0.0;  // the error bound of the current tier, mm
   double voxel_ = 1.0;  // mean edge length, a length scale for tolerances
   std::unique_ptr<IntersectionGuard> guard_;
   QualityResult result_;
+  // The caps split this round: the foot m on the long edge bc, the apex a, d across.
+  struct Split {
+    Mesh::VertexHandle m, a, b, c, d;
+  };
+  std::vector<Split> split_;
 };
 
 void QualityPass::new_guard() {
@@ -174,7 +180,9 @@ std::size_t QualityPass::flip_phase() {
 // apex to the foot is then collapsed by the collapse phase. Only where the
 // face across the long edge keeps its angles above the bound (or its own).
 std::size_t QualityPass::split_phase() {
+  split_.clear();
   std::vector<std::pair<Mesh::VertexHandle, Mesh::VertexHandle>> edges;
+  std::vector<Mesh::VertexHandle> apexes, opposite;
   std::vector<Vec3> feet;
   std::vector<char> marked(mesh_.n_edges(), 0);
   for (auto f : bad_faces(mesh_, bound_)) {
@@ -201,6 +209,8 @@ std::size_t QualityPass::split_phase() {
     if (std::min(triangle_min_angle(pc, m, pd), triangle_min_angle(m, pb, pd)) < std::min(bound_, across)) continue;
     marked[e.idx()] = 1;
     edges.emplace_back(b, c);
+    apexes.push_back(apex);
+    opposite.push_back(d);
     feet.push_back(m);
   }
   std::size_t splits = 0;
@@ -213,6 +223,7 @@ std::size_t QualityPass::split_phase() {
     const auto mid = mesh_.add_vertex(to_point(feet[i]));
     mesh_.property(gen, mid) = g;
     mesh_.split(mesh_.edge_handle(h), mid);
+    split_.push_back({mid, apexes[i], edges[i].first, edges[i].second, opposite[i]});
     ++splits;
   }
   return splits;
@@ -269,6 +280,19 @@ std::size_t QualityPass::collapse_phase() {
       ++collapses;
       break;
     }
+  }
+  // A split whose apex was not collapsed into the foot is undone (the foot
+  // collapsed into b gives back the two old faces, which cover exactly the
+  // four new ones): splits that did not help add no faces.
+  undone_ = 0;
+  for (const Split& t : split_) {
+    if (mesh_.status(t.m).deleted() || mesh_.valence(t.m) != 4) continue;
+    bool same = true;
+    for (auto w : mesh_.vv_range(t.m)) same = same && (w == t.a || w == t.b || w == t.c || w == t.d);
+    const auto h = mesh_.find_halfedge(t.m, t.b);
+    if (!same || !h.is_valid() || !collapse_keeps_topology(mesh_, h)) continue;
+    mesh_.collapse(h);
+    ++undone_;
   }
   mesh_.garbage_collection();
   return collapses;
@@ -388,13 +412,15 @@ QualityResult QualityPass::run() {
         if (bad_faces(mesh_, bound_).empty()) break;
         const std::size_t flips = flip_phase();
         const std::size_t splits = split_phase();
+        std::size_t splits_made = splits;
         const std::size_t collapses = collapse_phase();
+        splits_made -= std::min(splits_made, undone_);
         const std::size_t moves = relax_phase();
         result_.flips += flips;
-        result_.splits += splits;
+        result_.splits += splits_made;
         result_.collapses += collapses;
         result_.moves += moves;
-        if (flips + splits + collapses + moves == 0) break;
+        if (flips + splits_made + collapses + moves == 0) break;
       }
       // Flips that help after the last moves.
       if (!bad_faces(mesh_, bound_).empty()) result_.flips += flip_phase();
