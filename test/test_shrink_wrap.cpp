@@ -350,8 +350,9 @@ TEST(ShrinkWrap, smallest_angle_reaches_min_angle) {
       below += gdm::triangle_min_angle(a, b, c) < o.min_angle ? 1 : 0;
     }
     EXPECT_EQ(on.deform.faces_below_min_angle, below) << name;
-    // Measured: the open box reaches the bound; on the open sphere 18 faces
-    // stay below it (0.87 degrees, from 0.26), caps folded over the rim of
+    std::cout << name << ": " << below << " faces below " << o.min_angle << " degrees\n";
+    // Measured: the open box reaches the bound; on the open sphere 16 faces
+    // stay below it (0.90 degrees, from 0.26; 3136 faces from 3058), caps folded over the rim of
     // the input where every operation would touch the input or fold the ring.
     if (std::string(name) == "open box") EXPECT_GE(on.report.min_angle_deg, 10.0);
     else EXPECT_LE(below, 25u) << name;

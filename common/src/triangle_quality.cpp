@@ -105,6 +105,7 @@ class QualityPass {
   const QualityOptions& o_;
   double bound_;
   std::size_t undone_ = 0;  // splits undone by the last collapse phase
+  bool undo_splits_ = false;  // the last tier: undo the splits that did not help
   double max_error_ = 0.0;  // the error bound of the current tier, mm
   double voxel_ = 1.0;  // mean edge length, a length scale for tolerances
   std::unique_ptr<IntersectionGuard> guard_;
@@ -281,11 +282,13 @@ std::size_t QualityPass::collapse_phase() {
       break;
     }
   }
-  // A split whose apex was not collapsed into the foot is undone (the foot
-  // collapsed into b gives back the two old faces, which cover exactly the
-  // four new ones): splits that did not help add no faces.
+  // In the last tier, a split whose apex was not collapsed into the foot is
+  // undone (the foot collapsed into b gives back the two old faces, which
+  // cover exactly the four new ones): splits that did not help add no faces.
+  // (Earlier tiers keep them: a later tier's collapse may still use them.)
   undone_ = 0;
   for (const Split& t : split_) {
+    if (!undo_splits_) break;
     if (mesh_.status(t.m).deleted() || mesh_.valence(t.m) != 4) continue;
     bool same = true;
     for (auto w : mesh_.vv_range(t.m)) same = same && (w == t.a || w == t.b || w == t.c || w == t.d);
@@ -408,6 +411,7 @@ QualityResult QualityPass::run() {
     // faces: the mean and the 95th percentile barely move).
     for (const double tier : {1.0, 2.5, 5.0}) {
       max_error_ = o_.max_error * tier;
+      undo_splits_ = tier == 5.0 || !(o_.max_error > 0.0);
       for (int round = 0; round < o_.rounds; ++round) {
         if (bad_faces(mesh_, bound_).empty()) break;
         const std::size_t flips = flip_phase();
