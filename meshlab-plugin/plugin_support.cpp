@@ -22,6 +22,14 @@ void log_result(const gdm::PipelineResult& r, LogLines* log) {
                  " moves vetoed by the self-intersection guard)");
   if (d.gap_closed_voxels > 0) log->push_back(gdm::gap_summary(d));
   if (d.cavities > 0) log->push_back(gdm::cavity_summary(d));
+  if (d.quality_flips + d.quality_splits + d.quality_collapses + d.quality_moves > 0)
+    log->push_back("triangle quality: " + std::to_string(d.quality_flips) + " flips, " +
+                   std::to_string(d.quality_splits) + " splits, " + std::to_string(d.quality_collapses) +
+                   " collapses, " + std::to_string(d.quality_moves) + " moves; smallest angle " +
+                   fmt(r.report.min_angle_deg) + " degrees");
+  if (d.faces_below_min_angle > 0)
+    log->push_back("warning: " + std::to_string(d.faces_below_min_angle) +
+                   " faces keep an angle below min_angle (the guarantees came first)");
   if (d.reason == gdm::StopReason::max_cycles)
     log->push_back("warning: the model did not converge; raise max_cycles or check the threshold");
   if (r.failure.empty()) log->push_back("result: " + gdm::to_string(r.report));

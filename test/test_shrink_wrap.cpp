@@ -1,6 +1,11 @@
 // gdm::shrink_wrap (gdm/shrink_wrap.h) on generated inputs: several pieces, a
 // holed sphere, a point cloud; its guarantees and its refusals.
+#include <string>
+#include <tuple>
+
 #include <gtest/gtest.h>
+
+#include "gdm/triangle_quality.h"
 
 #include <iostream>
 
@@ -316,6 +321,41 @@ TEST(ShrinkWrap, no_pyramids_over_holes) {
     EXPECT_LE(2 * after, before) << c.name;
     EXPECT_LE(after, faired_free / 6) << c.name;
     EXPECT_LE(20 * capped, bridged_free) << c.name;
+  }
+}
+
+// Triangle quality (issue 16): the wrap's last step lifts every angle to
+// min_angle (10 degrees by default), each operation checked against the input
+// too; 0 turns it off.
+TEST(ShrinkWrap, smallest_angle_reaches_min_angle) {
+  for (const auto& [name, input, cell, tolerance] :
+       {std::tuple{"open sphere", open_sphere_soup(), 0.5, 1.5}, std::tuple{"open box", open_box(), 0.4, 1.2}}) {
+    gdm::WrapOptions o = options(cell, tolerance);
+    o.min_angle = 0.0;
+    const gdm::WrapResult off = gdm::shrink_wrap(input, o);
+    o.min_angle = gdm::WrapOptions{}.min_angle;
+    const gdm::WrapResult on = gdm::shrink_wrap(input, o);
+    expect_valid_wrap(input, on, tolerance);
+    std::cout << name << ": smallest angle " << off.report.min_angle_deg << " deg at min_angle 0, "
+              << on.report.min_angle_deg << " at " << o.min_angle << " (" << off.report.faces << " and "
+              << on.report.faces << " faces)\n";
+    EXPECT_EQ(o.min_angle, 10.0);
+    EXPECT_GE(on.report.min_angle_deg, off.report.min_angle_deg) << name;
+    // The count reported is the truth (checked on the float-snapped output).
+    std::size_t below = 0;
+    for (auto f : on.mesh.faces()) {
+      auto it = on.mesh.cfv_iter(f);
+      const gdm::Vec3 a = gdm::to_eigen(on.mesh.point(*it)), b = gdm::to_eigen(on.mesh.point(*++it)),
+                      c = gdm::to_eigen(on.mesh.point(*++it));
+      below += gdm::triangle_min_angle(a, b, c) < o.min_angle ? 1 : 0;
+    }
+    EXPECT_EQ(on.deform.faces_below_min_angle, below) << name;
+    std::cout << name << ": " << below << " faces below " << o.min_angle << " degrees\n";
+    // Measured: the open box reaches the bound; on the open sphere 16 faces
+    // stay below it (0.90 degrees, from 0.26; 3136 faces from 3058), caps folded over the rim of
+    // the input where every operation would touch the input or fold the ring.
+    if (std::string(name) == "open box") EXPECT_GE(on.report.min_angle_deg, 10.0);
+    else EXPECT_LE(below, 25u) << name;
   }
 }
 

@@ -20,6 +20,7 @@
 #include "gdm/option_catalogue.h"
 #include "gdm/text.h"
 #include "gdm/triangle_locator.h"
+#include "gdm/triangle_quality.h"
 
 namespace gdm {
 
@@ -57,6 +58,9 @@ DeformOptions model_options(const WrapOptions& w) {
   o.threads = w.threads;
   // The wrap bridges the input's holes: no refinement to enter what lies behind them.
   o.refine_channels = false;
+  // No triangle-quality pass inside the wrap's deformations: the fairing of
+  // the vertices over holes runs after them; the wrap runs its own pass last.
+  o.min_angle = 0.0;
   return o;
 }
 
@@ -70,6 +74,8 @@ void validate(const std::vector<Triangle>& input, const WrapOptions& w) {
                                           fmt(w.cell_size) + "): the grid cannot resolve a closer wrap");
   require(std::isfinite(w.bridge) && w.bridge >= 0.0, "bridge must be >= 0 (mm; 0 = off), got " + fmt(w.bridge));
   require(w.coverage_rounds >= 0, "coverage_rounds must be >= 0, got " + std::to_string(w.coverage_rounds));
+  require(std::isfinite(w.min_angle) && w.min_angle >= 0.0 && w.min_angle <= 30.0,
+          "min_angle must be in [0, 30] (degrees; 0 = off), got " + fmt(w.min_angle));
   // The model's options: the catalogue's ranges (lod_face_area in cell^2 here).
   const DeformOptions model = model_options(w);
   for (const auto& option : deform_option_catalogue()) check_option(option, option.get(model));
@@ -519,6 +525,41 @@ WrapResult shrink_wrap(const std::vector<Triangle>& input, const WrapOptions& w,
                          " vertices could not be moved to float precision without a self-intersection");
       }
     }
+  }
+
+  // Triangle quality, the last geometric step: after the fairing, every flip,
+  // collapse and move also checked against the input (the obstacle); the
+  // surface moves by at most a tenth of a cell (a quarter, half a cell for
+  // the faces still below the bound after that).
+  if (w.min_angle > 0.0) {
+    QualityOptions q;
+    q.min_angle = w.min_angle;
+    q.max_error = 0.1 * w.cell_size;
+    q.obstacle = &obstacle;
+    const QualityResult r = improve_triangle_quality(mesh, q);
+    mesh.release_vertex_status();
+    mesh.release_edge_status();
+    mesh.release_halfedge_status();
+    mesh.release_face_status();
+    out.deform.quality_flips = r.flips;
+    out.deform.quality_splits = r.splits;
+    out.deform.quality_collapses = r.collapses;
+    out.deform.quality_moves = r.moves;
+    out.deform.faces_below_min_angle = r.faces_below;
+    if (r.flips + r.splits + r.collapses + r.moves > 0) {
+      const FloatSnapResult snap = snap_to_float(mesh);
+      far_input(input, mesh, refine_beyond, &input_to_wrap);
+      log->push_back("triangle quality: " + std::to_string(r.flips) + " flips, " + std::to_string(r.splits) +
+                     " splits, " + std::to_string(r.collapses) + " collapses, " + std::to_string(r.moves) +
+                     " moves; smallest angle " + fmt(r.min_angle_before) + " -> " + fmt(r.min_angle_after) +
+                     " degrees");
+      if (snap.refused > 0)
+        log->push_back("warning: " + std::to_string(snap.refused) +
+                       " vertices could not be moved to float precision without a self-intersection");
+    }
+    if (r.faces_below > 0)
+      log->push_back("warning: " + std::to_string(r.faces_below) + " faces keep an angle below " +
+                     fmt(w.min_angle) + " degrees (the guarantees came first)");
   }
 
   const MeshReport report = measure(mesh);

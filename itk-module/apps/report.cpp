@@ -61,6 +61,10 @@ std::string summary_text(const RunRecord& r) {
   part(r.model.fit_moves, "fit moves");
   part(r.model.lod_splits, "lod splits");
   part(r.model.lod_collapses, "lod collapses");
+  part(r.model.quality_flips, "quality flips");
+  part(r.model.quality_splits, "quality splits");
+  part(r.model.quality_collapses, "quality collapses");
+  part(r.model.quality_moves, "quality moves");
   part(r.model.float_refused, "vertices not float-exact");
   if (!finish.empty()) s << "  after convergence: " << finish << "\n";
   if (r.model.gap_closed_voxels > 0) s << "  " << gdm::gap_summary(r.model) << "\n";
@@ -68,6 +72,10 @@ std::string summary_text(const RunRecord& r) {
   for (const std::string& line : gdm::describe_contacts(r.contacts)) s << "  " << line << "\n";
   s << "  closed " << (m.closed ? "yes" : "NO") << ", manifold " << (m.two_manifold ? "yes" : "NO") << ", genus "
     << m.genus << ", components " << m.components << ", self-intersections " << m.self_intersections << "\n"
+    << "  smallest angle " << fixed(m.min_angle_deg, 2) << " deg";
+  if (r.model.faces_below_min_angle > 0)
+    s << " (" << r.model.faces_below_min_angle << " faces left below --min-angle)";
+  s << "\n"
     << "  volume " << fixed(m.volume, 1) << " mm^3 = " << fixed(m.volume / 1000.0, 3) << " ml, area "
     << fixed(m.area, 1) << " mm^2\n"
     << "  extent " << vec(r.low, 2) << " to " << vec(r.high, 2) << " mm\n"
@@ -114,6 +122,11 @@ std::string report_json(const RunRecord& r, const Options& options) {
       .add("fit_moves", json_number(r.model.fit_moves))
       .add("lod_splits", json_number(r.model.lod_splits))
       .add("lod_collapses", json_number(r.model.lod_collapses))
+      .add("quality_flips", json_number(r.model.quality_flips))
+      .add("quality_splits", json_number(r.model.quality_splits))
+      .add("quality_collapses", json_number(r.model.quality_collapses))
+      .add("quality_moves", json_number(r.model.quality_moves))
+      .add("faces_below_min_angle", json_number(r.model.faces_below_min_angle))
       .add("float_refused", json_number(r.model.float_refused))
       .add("gap_closed_voxels", json_number(r.model.gap_closed_voxels))
       .add("gap_reachable_voxels", json_number(r.model.gap_reachable_voxels))

@@ -137,6 +137,10 @@ operator<<(std::ostream & os, const GeometricallyDeformedModelEnums::Polarity va
  *   self-intersection free kept). LevelOfDetailMinimumAngle [15 degrees, in
  *   [0, 60)] is the triangle-quality floor of collapses,
  *   LevelOfDetailRounds [6, in [1, 50]] the collapse/split/fit rounds.
+ * - MinimumAngle [10 degrees, in [0, 30], 0 = off]: triangle quality, the last
+ *   geometric step: every face with a smaller angle is improved by guarded
+ *   edge flips, cap splits, short-edge collapses and tangential relaxation on
+ *   the model's surface (best effort; guarantees kept).
  * - FloatExactOutput [on]: end with every vertex on a float-representable
  *   point, each move checked by the self-intersection guard, so that an
  *   itk::Mesh<float> (or a float file format) keeps the no-self-intersection
@@ -361,6 +365,11 @@ public:
   itkSetMacro(LevelOfDetailRounds, unsigned int);
   itkGetConstMacro(LevelOfDetailRounds, unsigned int);
 
+  /** Triangle quality: faces with an angle below this are improved as the
+   * last geometric step (best effort), degrees, in [0, 30]; 0 = off. */
+  itkSetMacro(MinimumAngle, double);
+  itkGetConstMacro(MinimumAngle, double);
+
   /** End with every vertex on a float-representable point, each move checked
    * by the self-intersection guard (float meshes keep the guarantee). */
   itkSetMacro(FloatExactOutput, bool);
@@ -502,6 +511,7 @@ private:
   double        m_LevelOfDetailTolerance;
   double        m_LevelOfDetailMinimumAngle;
   unsigned int  m_LevelOfDetailRounds;
+  double        m_MinimumAngle;
   bool          m_FloatExactOutput;
   /** The core options not held in the members above (reached by SetOption). */
   gdm::DeformOptions m_CatalogueOptions;

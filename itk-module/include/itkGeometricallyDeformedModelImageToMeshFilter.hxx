@@ -70,6 +70,7 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::SetDeform
   m_LevelOfDetailTolerance = o.lod_tolerance;
   m_LevelOfDetailMinimumAngle = o.lod_min_angle;
   m_LevelOfDetailRounds = static_cast<unsigned int>(o.lod_rounds);
+  m_MinimumAngle = o.min_angle;
   m_FloatExactOutput = o.float_exact_output;
   if (o.threads > 0)
   {
@@ -157,6 +158,7 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::GetDeform
   o.lod_tolerance = m_LevelOfDetailTolerance;
   o.lod_min_angle = m_LevelOfDetailMinimumAngle;
   o.lod_rounds = static_cast<int>(std::min<unsigned int>(m_LevelOfDetailRounds, 1000000u));
+  o.min_angle = m_MinimumAngle;
   o.float_exact_output = m_FloatExactOutput;
   return o;
 }
@@ -359,6 +361,7 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::PrintSelf
   os << indent << "LevelOfDetailTolerance: " << m_LevelOfDetailTolerance << std::endl;
   os << indent << "LevelOfDetailMinimumAngle: " << m_LevelOfDetailMinimumAngle << std::endl;
   os << indent << "LevelOfDetailRounds: " << m_LevelOfDetailRounds << std::endl;
+  os << indent << "MinimumAngle: " << m_MinimumAngle << std::endl;
   os << indent << "FloatExactOutput: " << (m_FloatExactOutput ? "On" : "Off") << std::endl;
   os << indent << "SeedCenter: " << m_SeedCenter << std::endl;
   os << indent << "SeedRadius: " << m_SeedRadius << std::endl;

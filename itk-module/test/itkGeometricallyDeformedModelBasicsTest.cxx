@@ -69,6 +69,7 @@ ExerciseBasicsAndSetGet()
   ITK_TEST_SET_GET_VALUE(d.lod_tolerance, filter->GetLevelOfDetailTolerance());
   ITK_TEST_SET_GET_VALUE(d.lod_min_angle, filter->GetLevelOfDetailMinimumAngle());
   ITK_TEST_SET_GET_VALUE(static_cast<unsigned int>(d.lod_rounds), filter->GetLevelOfDetailRounds());
+  ITK_TEST_SET_GET_VALUE(d.min_angle, filter->GetMinimumAngle());
   ITK_TEST_SET_GET_VALUE(d.float_exact_output, filter->GetFloatExactOutput());
   // Before a run the results and the current cycle's figures are 0.
   ITK_TEST_EXPECT_EQUAL(filter->GetNumberOfFitMoves(), 0u);
@@ -136,6 +137,7 @@ ExerciseBasicsAndSetGet()
   ITK_TEST_SET_GET_VALUE(0.1, (filter->SetLevelOfDetailTolerance(0.1), filter->GetLevelOfDetailTolerance()));
   ITK_TEST_SET_GET_VALUE(12.0, (filter->SetLevelOfDetailMinimumAngle(12.0), filter->GetLevelOfDetailMinimumAngle()));
   ITK_TEST_SET_GET_VALUE(3u, (filter->SetLevelOfDetailRounds(3), filter->GetLevelOfDetailRounds()));
+  ITK_TEST_SET_GET_VALUE(20.0, (filter->SetMinimumAngle(20.0), filter->GetMinimumAngle()));
   ITK_TEST_SET_GET_VALUE(0.8, (filter->SetMaximumTopologyRatio(0.8), filter->GetMaximumTopologyRatio()));
   ITK_TEST_SET_GET_VALUE(1.25, (filter->SetRefinementTravel(1.25), filter->GetRefinementTravel()));
   ITK_TEST_SET_GET_VALUE(4.5, (filter->SetGapSize(4.5), filter->GetGapSize()));
@@ -166,7 +168,7 @@ ExerciseBasicsAndSetGet()
       o.convergence_window != 8 || o.flip_max_dihedral != 15.0 || o.max_faces != 5000 || o.threads != 2 ||
       o.subvoxel_fit || o.fit_passes != 6 || o.fit_max_distance != 0.75 || o.fit_smoothing != 1.5 || o.lod_tolerance != 0.1 ||
       o.lod_min_angle != 12.0 || o.lod_rounds != 3 || o.max_topology_ratio != 0.8 || o.refinement_travel != 1.25 ||
-      o.float_exact_output)
+      o.min_angle != 20.0 || o.float_exact_output)
   {
     std::cerr << "GetDeformOptions does not follow the parameters" << std::endl;
     return EXIT_FAILURE;
@@ -181,7 +183,7 @@ ExerciseBasicsAndSetGet()
          "GradientStep", "LevelOfDetailFaceArea", "LevelOfDetailTopologyExtent", "NumberOfGlobalRefinements",
          "MaximumNumberOfCycles", "ConvergenceTolerance", "ConvergenceWindow", "PreventSelfIntersection",
          "ImproveTriangles", "FlipMaximumDihedralAngle", "MaximumNumberOfFaces", "SubvoxelFit", "NumberOfFitPasses",
-         "FitMaximumDistance", "FitSmoothing", "LevelOfDetailTolerance", "LevelOfDetailMinimumAngle", "LevelOfDetailRounds",
+         "FitMaximumDistance", "FitSmoothing", "LevelOfDetailTolerance", "LevelOfDetailMinimumAngle", "LevelOfDetailRounds", "MinimumAngle",
          "MaximumTopologyRatio", "RefinementTravel", "GapSize", "NumberOfGapClosedVoxels", "FillCavities", "NumberOfFilledCavities", "FilledCavityVolume", "FloatExactOutput", "SeedCenter", "SeedRadius",
          "SeedSubdivisionLevel", "StopReason", "NumberOfCycles", "NumberOfGlobalRefinementsPerformed",
          "NumberOfRejectedMoves", "NumberOfFlips", "NumberOfBorderVertices", "NumberOfFitMoves",

@@ -637,6 +637,11 @@ py::dict model_report(const gdm::DeformResult& r, double seconds) {
   d["fit_moves"] = r.fit_moves;
   d["lod_splits"] = r.lod_splits;
   d["lod_collapses"] = r.lod_collapses;
+  d["quality_flips"] = r.quality_flips;
+  d["quality_splits"] = r.quality_splits;
+  d["quality_collapses"] = r.quality_collapses;
+  d["quality_moves"] = r.quality_moves;
+  d["faces_below_min_angle"] = r.faces_below_min_angle;
   d["float_refused"] = r.float_refused;
   d["gap_closed_voxels"] = r.gap_closed_voxels;
   d["gap_reachable_voxels"] = r.gap_reachable_voxels;

@@ -77,6 +77,11 @@ struct DeformOptions {
   const Obstacle* obstacle = nullptr;  // triangles no move or flip may touch (obstacle.h), e.g. a
                                        // shrink-wrap's input; not owned; needs the fit and the
                                        // error-driven level of detail off
+  double min_angle = 10.0;           // triangle quality, degrees in [0, 30] (0 = off): the last geometric
+                                     // step improves every face with a smaller angle by guarded flips,
+                                     // cap splits, short-edge collapses and tangential relaxation on the
+                                     // model's surface (triangle_quality.h); best effort, the faces left
+                                     // below are counted in DeformResult::faces_below_min_angle
   bool float_exact_output = true;    // end with every vertex on a float-representable point, each move
                                      // checked by the guard (float_snap.h): float outputs (STL, MeshLab,
                                      // itk::Mesh<float>) keep the no-self-intersection guarantee
@@ -120,6 +125,11 @@ struct DeformResult {
   double cavity_volume = 0.0;            // their volume, mm^3
   Vec3 largest_cavity_centre = Vec3::Zero();  // centroid of the largest, mm
   std::size_t cavity_specks = 0;         // smaller enclosed regions (specks of noise), filled too
+  std::size_t quality_flips = 0;      // edge flips of the triangle-quality pass
+  std::size_t quality_splits = 0;     // cap edges split by it
+  std::size_t quality_collapses = 0;  // short edges collapsed by it
+  std::size_t quality_moves = 0;      // vertex moves of its relaxation
+  std::size_t faces_below_min_angle = 0;  // faces left with an angle below min_angle (0 when it is off)
   std::size_t float_refused = 0;  // vertices float_exact_output could not move safely (0 in practice)
 };
 

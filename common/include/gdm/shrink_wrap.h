@@ -37,6 +37,9 @@ struct WrapOptions {
                                  // holes, where the model's pressure leaves them standing an edge's height
                                  // off their neighbours: "pyramids"); they move toward their neighbours'
                                  // centroid, each move checked by the guard and against the input
+  double min_angle = 10.0;       // triangle quality (triangle_quality.h), degrees in [0, 30], 0 = off: the
+                                 // last geometric step, after the fairing, every operation also checked
+                                 // against the input; best effort (the log says what is left)
   int coverage_rounds = 4;       // local refinement rounds while input lies beyond 90% of the tolerance
                                  // after the convergence (0 = off, >= 0)
   // The model (gdm::DeformOptions, Table 2 and section 6):
