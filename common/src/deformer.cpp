@@ -307,7 +307,7 @@ std::size_t Deformer::apply_moves(const std::vector<int>& candidates, const std:
   std::fill(active_.begin(), active_.end(), 0);
   // Every vertex moves at most one step this cycle: boxes inflated by the
   // largest step stay valid until the next rebuild.
-  if (o_.prevent_self_intersection) guard_->rebuild();
+  if (o_.prevent_self_intersection) guard_->prepare_moves();
   std::size_t moved = 0;
   // In vertex order, one at a time: each accepted move is seen by the next
   // check, and the outcome does not depend on the thread count.
@@ -363,7 +363,7 @@ std::size_t Deformer::resample(int cycle) {
   grow_per_vertex_state();
   for (std::size_t i = before; i < mesh_.n_vertices(); ++i) activate_around(Mesh::VertexHandle(static_cast<int>(i)));
   if (splits > 0) last_split_cycle_ = cycle;
-  if (splits > 0 && o_.prevent_self_intersection) guard_->rebuild();
+  if (splits > 0 && o_.prevent_self_intersection) guard_->note_new_faces();
   if (o_.improve_triangles) {
     const auto flipped_triangle = [&](Mesh::VertexHandle a, Mesh::VertexHandle b, Mesh::VertexHandle c) {
       return Obstacle::Triangle{to_eigen(mesh_.point(a)), to_eigen(mesh_.point(b)), to_eigen(mesh_.point(c))};

@@ -30,6 +30,12 @@ void IntersectionGuard::rebuild() {
   grid_.rebuild(*mesh_, cell > 0.0 ? cell : 1.0, margin_);
 }
 
+void IntersectionGuard::prepare_moves() {
+  // Only faces whose box changed are registered again, with the same margin
+  // as a rebuild: the grid offers the same candidates to the exact tests.
+  if (!grid_.refresh(*mesh_, margin_)) rebuild();
+}
+
 IntersectionGuard::Triangle IntersectionGuard::face_triangle(int face, int moved_vertex,
                                                              const Vec3& moved_to) const {
   Triangle t;
