@@ -247,13 +247,19 @@ VertexNeighbourhood Deformer::neighbourhood(Mesh::VertexHandle v) const {
   // Normal over the faces within `normal_rings` rings: the faces around v and,
   // for 2 rings, the faces adjacent to them (section 7: a larger neighbourhood
   // is more stable; too large is inaccurate).
+  // Per-thread scratch: no allocation per vertex and cycle. The sum runs in
+  // face order as before.
+  thread_local std::vector<int> near_vertices, near_faces;
+  vertices_within(mesh_, v, o_.normal_rings - 1, near_vertices);
+  faces_around(mesh_, near_vertices, near_faces);
   Vec3 normal = Vec3::Zero();
-  for (int f : faces_around(mesh_, vertices_within(mesh_, v, o_.normal_rings - 1))) normal += face_normal_[f];
+  for (int f : near_faces) normal += face_normal_[f];
   const double len = normal.norm();
   n.normal = len > 0.0 ? Vec3(normal / len) : Vec3::UnitZ();
 
   // Eq. 3: centroid of the neighbours and their largest separation.
-  std::vector<Vec3> ring;
+  thread_local std::vector<Vec3> ring;
+  ring.clear();
   for (auto w : mesh_.vv_range(v)) ring.push_back(to_eigen(mesh_.point(w)));
   Vec3 centroid = Vec3::Zero();
   for (const auto& p : ring) centroid += p;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <utility>
 #include <vector>
 
 #include "gdm/face_grid.h"
@@ -56,6 +57,10 @@ class IntersectionGuard {
   double min_face_area_;
   FaceGrid grid_;
   GuardStatistics stats_;
+  // move_is_safe's scratch, kept to spare an allocation per call.
+  std::vector<int> ring_faces_;
+  std::vector<Triangle> fan_;
+  std::vector<std::pair<Vec3, Vec3>> fan_boxes_;
 };
 
 }  // namespace gdm
