@@ -31,8 +31,10 @@ void IntersectionGuard::rebuild() {
 }
 
 void IntersectionGuard::prepare_moves() {
-  // Only faces whose box changed are registered again, with the same margin
-  // as a rebuild: the grid offers the same candidates to the exact tests.
+  // Only faces whose box grew are registered again, with the same margin as
+  // a rebuild: the grid offers the exact tests every face a rebuild would
+  // (and a face that shrank in place, with its larger box, perhaps more),
+  // and each decision is a yes/no over all of them.
   if (!grid_.refresh(*mesh_, margin_)) rebuild();
 }
 
