@@ -164,3 +164,52 @@ TEST(FaceGrid, rebuild_registers_every_mesh_face_with_the_margin) {
   grid.for_each_near(far, far, [&](int f) { found = found || f == 0; });
   EXPECT_TRUE(found);
 }
+
+// refresh() (the deformer's per-cycle update) keeps the grid complete: after
+// rounds of moves of up to the margin, a second box registered for a face (as
+// a flip does) and faces added by a split, every query visits, once each, every
+// face whose current box inflated by the margin meets it (and possibly faces
+// whose registered box is larger than their current one: a face shrunk in
+// place keeps its box).
+TEST(FaceGrid, refresh_after_moves_and_splits_finds_every_face_a_rebuild_would) {
+  Mesh mesh = make_geodesic_sphere(Vec3(1, 2, -3), 5.0, 2);
+  const double margin = 0.2;
+  FaceGrid grid;
+  grid.rebuild(mesh, 1.2, margin);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0), where(-5.0, 7.0), size(0.0, 2.0);
+  std::uniform_int_distribution<int> coin(0, 9);
+  for (int round = 0; round < 6; ++round) {
+    for (auto v : mesh.vertices())
+      if (coin(rng) < 1) {  // a tenth of the vertices: refresh declines past half the faces
+        const Vec3 d(unit(rng), unit(rng), unit(rng));
+        mesh.set_point(v, mesh.point(v) + to_point(margin * d / std::max(1.0, d.norm())));
+      }
+    if (round == 2) {  // a split adds faces; register_new_faces must find them
+      const auto e = *mesh.edges_begin();
+      const auto h = mesh.halfedge_handle(e, 0);
+      const auto mid = mesh.add_vertex(0.5 * (mesh.point(mesh.from_vertex_handle(h)) + mesh.point(mesh.to_vertex_handle(h))));
+      mesh.split(e, mid);
+      grid.register_new_faces(mesh);
+    }
+    if (round == 4) grid.insert_box(3, Vec3(40, 40, 40), Vec3(41, 41, 41));  // a second box: registered again
+    ASSERT_TRUE(grid.refresh(mesh, margin)) << "round " << round;
+    for (int i = 0; i < 200; ++i) {
+      Box q;
+      q.lo = Vec3(where(rng) - 1.0, where(rng), where(rng) - 6.0);
+      q.hi = q.lo + Vec3(size(rng), size(rng), size(rng));
+      std::vector<int> expected, visited;
+      for (auto f : mesh.faces()) {
+        std::array<Vec3, 3> t;
+        int k = 0;
+        for (auto v : mesh.fv_range(f)) t[k++] = to_eigen(mesh.point(v));
+        if (boxes_meet(bounds(t, margin), q)) expected.push_back(f.idx());
+      }
+      grid.for_each_near(q.lo, q.hi, [&](int f) { visited.push_back(f); });
+      std::sort(visited.begin(), visited.end());
+      EXPECT_EQ(std::unique(visited.begin(), visited.end()), visited.end()) << "round " << round << " query " << i;
+      EXPECT_TRUE(std::includes(visited.begin(), visited.end(), expected.begin(), expected.end()))
+          << "round " << round << " query " << i;
+    }
+  }
+}

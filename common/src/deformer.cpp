@@ -267,13 +267,19 @@ VertexNeighbourhood Deformer::neighbourhood(Mesh::VertexHandle v) const {
   // Normal over the faces within `normal_rings` rings: the faces around v and,
   // for 2 rings, the faces adjacent to them (section 7: a larger neighbourhood
   // is more stable; too large is inaccurate).
+  // Per-thread scratch: no allocation per vertex and cycle. The sum runs in
+  // face order as before.
+  thread_local std::vector<int> near_vertices, near_faces;
+  vertices_within(mesh_, v, o_.normal_rings - 1, near_vertices);
+  faces_around(mesh_, near_vertices, near_faces);
   Vec3 normal = Vec3::Zero();
-  for (int f : faces_around(mesh_, vertices_within(mesh_, v, o_.normal_rings - 1))) normal += face_normal_[f];
+  for (int f : near_faces) normal += face_normal_[f];
   const double len = normal.norm();
   n.normal = len > 0.0 ? Vec3(normal / len) : Vec3::UnitZ();
 
   // Eq. 3: centroid of the neighbours and their largest separation.
-  std::vector<Vec3> ring;
+  thread_local std::vector<Vec3> ring;
+  ring.clear();
   for (auto w : mesh_.vv_range(v)) ring.push_back(to_eigen(mesh_.point(w)));
   Vec3 centroid = Vec3::Zero();
   for (const auto& p : ring) centroid += p;
@@ -327,7 +333,7 @@ std::size_t Deformer::apply_moves(const std::vector<int>& candidates, const std:
   std::fill(active_.begin(), active_.end(), 0);
   // Every vertex moves at most one step this cycle: boxes inflated by the
   // largest step stay valid until the next rebuild.
-  if (o_.prevent_self_intersection) guard_->rebuild();
+  if (o_.prevent_self_intersection) guard_->prepare_moves();
   std::size_t moved = 0;
   // In vertex order, one at a time: each accepted move is seen by the next
   // check, and the outcome does not depend on the thread count.
@@ -383,7 +389,7 @@ std::size_t Deformer::resample(int cycle) {
   grow_per_vertex_state();
   for (std::size_t i = before; i < mesh_.n_vertices(); ++i) activate_around(Mesh::VertexHandle(static_cast<int>(i)));
   if (splits > 0) last_split_cycle_ = cycle;
-  if (splits > 0 && o_.prevent_self_intersection) guard_->rebuild();
+  if (splits > 0 && o_.prevent_self_intersection) guard_->note_new_faces();
   if (o_.improve_triangles) {
     const auto flipped_triangle = [&](Mesh::VertexHandle a, Mesh::VertexHandle b, Mesh::VertexHandle c) {
       return Obstacle::Triangle{to_eigen(mesh_.point(a)), to_eigen(mesh_.point(b)), to_eigen(mesh_.point(c))};

@@ -6,24 +6,84 @@
 
 namespace gdm {
 
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+void face_box(const Mesh& mesh, Mesh::FaceHandle f, Vec3& lo, Vec3& hi) {
+  lo = Vec3::Constant(kInf);
+  hi = -lo;
+  for (auto v : mesh.fv_range(f)) {
+    const Vec3 p = to_eigen(mesh.point(v));
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+}
+
+}  // namespace
+
 FaceGrid::Key FaceGrid::key(int x, int y, int z) const { return cell_key(x, y, z); }
 
 std::array<int, 3> FaceGrid::cell_of(const Vec3& p) const { return gdm::cell_of(p, cell_size_); }
 
-void FaceGrid::insert_box(int face, Vec3 lo, Vec3 hi) {
-  lo.array() -= margin_;
-  hi.array() += margin_;
-  if (static_cast<std::size_t>(face) >= stamp_.size()) {
-    stamp_.resize(face + 1, 0);
-    box_lo_.resize(face + 1, Vec3::Constant(std::numeric_limits<double>::infinity()));
-    box_hi_.resize(face + 1, Vec3::Constant(-std::numeric_limits<double>::infinity()));
-  }
-  box_lo_[face] = box_lo_[face].cwiseMin(lo);
-  box_hi_[face] = box_hi_[face].cwiseMax(hi);
+void FaceGrid::grow_to(std::size_t faces) {
+  if (faces <= stamp_.size()) return;
+  stamp_.resize(faces, 0);
+  box_lo_.resize(faces, Vec3::Constant(kInf));
+  box_hi_.resize(faces, Vec3::Constant(-kInf));
+  reg_lo_.resize(faces, Vec3::Constant(kInf));
+  reg_hi_.resize(faces, Vec3::Constant(-kInf));
+}
+
+void FaceGrid::add_to_cells(int face, const Vec3& lo, const Vec3& hi) {
   const auto a = cell_of(lo), b = cell_of(hi);
   for (int x = a[0]; x <= b[0]; ++x)
     for (int y = a[1]; y <= b[1]; ++y)
       for (int z = a[2]; z <= b[2]; ++z) cells_[key(x, y, z)].push_back(face);
+}
+
+void FaceGrid::insert_box(int face, Vec3 lo, Vec3 hi) {
+  lo.array() -= margin_;
+  hi.array() += margin_;
+  grow_to(static_cast<std::size_t>(face) + 1);
+  const bool first = !(box_lo_[face].x() <= box_hi_[face].x());
+  box_lo_[face] = box_lo_[face].cwiseMin(lo);
+  box_hi_[face] = box_hi_[face].cwiseMax(hi);
+  // A face with one box is listed in all its cells; with several (a flip
+  // registers both candidate triangles), refresh() must register it again.
+  reg_lo_[face] = first ? lo : Vec3::Constant(kInf);
+  reg_hi_[face] = first ? hi : Vec3::Constant(-kInf);
+  add_to_cells(face, lo, hi);
+}
+
+// The face's entries lie in the cells its union box touches; the order of a
+// cell's entries does not matter (for_each_near's callers decide on all).
+void FaceGrid::remove_from_cells(int face) {
+  if (!(box_lo_[face].x() <= box_hi_[face].x())) return;  // never registered
+  const auto a = cell_of(box_lo_[face]), b = cell_of(box_hi_[face]);
+  for (int x = a[0]; x <= b[0]; ++x)
+    for (int y = a[1]; y <= b[1]; ++y)
+      for (int z = a[2]; z <= b[2]; ++z) {
+        const auto it = cells_.find(key(x, y, z));
+        if (it == cells_.end()) continue;
+        auto& list = it->second;
+        for (std::size_t i = 0; i < list.size();)
+          if (list[i] == face) {
+            list[i] = list.back();
+            list.pop_back();
+          } else {
+            ++i;
+          }
+      }
+}
+
+void FaceGrid::reregister(int face, const Vec3& lo, const Vec3& hi) {
+  const Vec3 a = lo.array() - margin_, b = hi.array() + margin_;
+  grow_to(static_cast<std::size_t>(face) + 1);
+  remove_from_cells(face);
+  box_lo_[face] = reg_lo_[face] = a;
+  box_hi_[face] = reg_hi_[face] = b;
+  add_to_cells(face, a, b);
 }
 
 void FaceGrid::reset(double cell_size, double margin) {
@@ -33,25 +93,52 @@ void FaceGrid::reset(double cell_size, double margin) {
   stamp_.clear();
   box_lo_.clear();
   box_hi_.clear();
+  reg_lo_.clear();
+  reg_hi_.clear();
   current_stamp_ = 0;
 }
 
 void FaceGrid::rebuild(const Mesh& mesh, double cell_size, double margin) {
   reset(cell_size, margin);
-  stamp_.assign(mesh.n_faces(), 0);
-  box_lo_.assign(mesh.n_faces(), Vec3::Constant(std::numeric_limits<double>::infinity()));
-  box_hi_.assign(mesh.n_faces(), Vec3::Constant(-std::numeric_limits<double>::infinity()));
+  grow_to(mesh.n_faces());
   for (auto f : mesh.faces()) insert(mesh, f);
 }
 
 void FaceGrid::insert(const Mesh& mesh, Mesh::FaceHandle f) {
-  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-  for (auto v : mesh.fv_range(f)) {
-    const Vec3 p = to_eigen(mesh.point(v));
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
-  }
+  Vec3 lo, hi;
+  face_box(mesh, f, lo, hi);
   insert_box(f.idx(), lo, hi);
+}
+
+bool FaceGrid::refresh(const Mesh& mesh, double reach) {
+  redo_.clear();
+  const std::size_t registered = reg_lo_.size();
+  Vec3 lo, hi;
+  for (auto f : mesh.faces()) {
+    const auto i = static_cast<std::size_t>(f.idx());
+    if (i < registered) {
+      face_box(mesh, f, lo, hi);
+      if (((lo.array() - reach) >= reg_lo_[i].array()).all() && ((hi.array() + reach) <= reg_hi_[i].array()).all())
+        continue;
+    }
+    redo_.push_back(f.idx());
+  }
+  // Moving a face costs about twice inserting it: past half the faces a
+  // rebuild is cheaper.
+  if (2 * redo_.size() > mesh.n_faces()) return false;
+  for (int i : redo_) {
+    face_box(mesh, Mesh::FaceHandle(i), lo, hi);
+    reregister(i, lo, hi);
+  }
+  return true;
+}
+
+void FaceGrid::register_new_faces(const Mesh& mesh) {
+  Vec3 lo, hi;
+  for (std::size_t i = reg_lo_.size(); i < mesh.n_faces(); ++i) {
+    face_box(mesh, Mesh::FaceHandle(static_cast<int>(i)), lo, hi);
+    reregister(static_cast<int>(i), lo, hi);
+  }
 }
 
 }  // namespace gdm

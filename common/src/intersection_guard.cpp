@@ -30,6 +30,14 @@ void IntersectionGuard::rebuild() {
   grid_.rebuild(*mesh_, cell > 0.0 ? cell : 1.0, margin_);
 }
 
+void IntersectionGuard::prepare_moves() {
+  // Only faces whose box grew are registered again, with the same margin as
+  // a rebuild: the grid offers the exact tests every face a rebuild would
+  // (and a face that shrank in place, with its larger box, perhaps more),
+  // and each decision is a yes/no over all of them.
+  if (!grid_.refresh(*mesh_, margin_)) rebuild();
+}
+
 IntersectionGuard::Triangle IntersectionGuard::face_triangle(int face, int moved_vertex,
                                                              const Vec3& moved_to) const {
   Triangle t;
@@ -59,7 +67,8 @@ bool IntersectionGuard::triangle_is_clear(const Triangle& t, const std::vector<i
 }
 
 bool IntersectionGuard::move_is_safe(Mesh::VertexHandle v, const Vec3& p) {
-  std::vector<int> ring_faces;
+  std::vector<int>& ring_faces = ring_faces_;
+  ring_faces.clear();
   for (auto f : mesh_->vf_range(v)) ring_faces.push_back(f.idx());
   for (int f : ring_faces) {
     const Triangle before = face_triangle(f, -1, p);
@@ -75,11 +84,11 @@ bool IntersectionGuard::move_is_safe(Mesh::VertexHandle v, const Vec3& p) {
   // once and tested against each fan face whose box it meets. Pairs within
   // the fan are checked too (their shared vertex is known to the predicate),
   // so a fan cannot fold over itself.
-  std::vector<Triangle> fan;
-  fan.reserve(ring_faces.size());
+  std::vector<Triangle>& fan = fan_;
+  fan.clear();
   Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-  std::vector<std::pair<Vec3, Vec3>> boxes;
-  boxes.reserve(ring_faces.size());
+  std::vector<std::pair<Vec3, Vec3>>& boxes = fan_boxes_;
+  boxes.clear();
   for (int f : ring_faces) {
     fan.push_back(face_triangle(f, v.idx(), p));
     const Triangle& t = fan.back();

@@ -22,6 +22,16 @@ double angle_at(const Vec3& apex, const Vec3& p, const Vec3& q) {
   return std::atan2(u.cross(w).norm(), u.dot(w));
 }
 
+// Is the edge p0-p1 locally Delaunay (the angles at a and b opposite it add
+// up to at most pi)? Two acute apexes settle it without atan2, which took 4 %
+// of a deformation: with the same dot product as angle_at's x, atan2(y >= 0,
+// x > 0) is at most pi/2. Only x > 0: atan2(+0, -0) is pi. Otherwise the
+// same sum as before decides.
+bool opposite_angles_within_pi(const Vec3& pa, const Vec3& pb, const Vec3& p0, const Vec3& p1) {
+  if ((p0 - pa).dot(p1 - pa) > 0.0 && (p0 - pb).dot(p1 - pb) > 0.0) return true;
+  return angle_at(pa, p0, p1) + angle_at(pb, p0, p1) <= M_PI + 1e-9;
+}
+
 }  // namespace
 
 std::size_t split_longest_edges(Mesh& mesh, int generation, const SplitSelect& select) {
@@ -101,10 +111,14 @@ std::size_t flip_to_improve(Mesh& mesh, double max_dihedral_deg, const FlipVeto&
     const auto v0 = mesh.from_vertex_handle(h0), v1 = mesh.to_vertex_handle(h0);
     const auto a = mesh.to_vertex_handle(mesh.next_halfedge_handle(h0));
     const auto b = mesh.to_vertex_handle(mesh.next_halfedge_handle(h1));
-    if (a == b || mesh.valence(v0) <= 3 || mesh.valence(v1) <= 3) continue;
+    if (a == b) continue;
     const Vec3 p0 = pos(mesh, v0), p1 = pos(mesh, v1), pa = pos(mesh, a), pb = pos(mesh, b);
     // Delaunay criterion: flip when the angles opposite the edge add up past pi.
-    if (angle_at(pa, p0, p1) + angle_at(pb, p0, p1) <= M_PI + 1e-9) continue;
+    // (Tested before the valences, which walk the vertex rings: most edges
+    // fail it. Every test here is a pure condition, so their order does not
+    // change which edges flip.)
+    if (opposite_angles_within_pi(pa, pb, p0, p1)) continue;
+    if (mesh.valence(v0) <= 3 || mesh.valence(v1) <= 3) continue;
     const Vec3 n0 = (p1 - p0).cross(pa - p0), n1 = (p0 - p1).cross(pb - p1);
     if (n0.normalized().dot(n1.normalized()) < min_normal_dot) continue;
     // The new faces (v0, b, a) and (v1, a, b) must keep the orientation.

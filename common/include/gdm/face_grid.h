@@ -27,6 +27,15 @@ class FaceGrid {
   void insert(const Mesh& mesh, Mesh::FaceHandle f);
   // Registers a box for a face (inflated by the margin).
   void insert_box(int face, Vec3 lo, Vec3 hi);
+  // Keeps the grid valid for moves of up to `reach` per vertex (reach at
+  // most the margin) without a rebuild: registers again each face whose box,
+  // grown by `reach`, leaves the box it was last registered with, and
+  // registers faces new since then. Returns false, changing nothing, when
+  // more than half the faces would be registered again: rebuild then.
+  bool refresh(const Mesh& mesh, double reach);
+  // Registers the faces added since the last rebuild or refresh (a split
+  // leaves the faces it shrinks inside their registered boxes).
+  void register_new_faces(const Mesh& mesh);
 
   // Does the union of the face's registered boxes meet the box [lo, hi]?
   bool box_meets(int face, const Vec3& lo, const Vec3& hi) const {
@@ -48,6 +57,12 @@ class FaceGrid {
   using Key = std::uint64_t;
   Key key(int x, int y, int z) const;
   std::array<int, 3> cell_of(const Vec3& p) const;
+  void grow_to(std::size_t faces);
+  void add_to_cells(int face, const Vec3& lo, const Vec3& hi);
+  void remove_from_cells(int face);
+  // Registers the face's box afresh (inflated by the margin) in place of all
+  // its earlier ones.
+  void reregister(int face, const Vec3& lo, const Vec3& hi);
   // Calls scan(face) for every entry of the cells the box touches, until it returns true.
   template <class Scan>
   bool scan_cells(const Vec3& lo, const Vec3& hi, Scan&& scan) const;
@@ -56,6 +71,10 @@ class FaceGrid {
   double margin_ = 0.0;
   std::unordered_map<Key, std::vector<int>> cells_;
   std::vector<Vec3> box_lo_, box_hi_;  // per face: union of its registered (inflated) boxes
+  // Per face: a box listed in every cell it touches, whose content refresh()
+  // may leave in place (empty after a second insert_box: refresh re-registers).
+  std::vector<Vec3> reg_lo_, reg_hi_;
+  std::vector<int> redo_;  // refresh()'s scratch
   std::vector<std::uint32_t> stamp_;
   std::uint32_t current_stamp_ = 0;
 };

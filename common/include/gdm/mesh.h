@@ -29,9 +29,10 @@ inline Mesh::Point to_point(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
 namespace gdm {
 
 // v and every vertex within `rings` edges of it, each once, sorted by index
-// (rings <= 0: v alone).
-inline std::vector<int> vertices_within(const Mesh& mesh, Mesh::VertexHandle v, int rings) {
-  std::vector<int> found{v.idx()};
+// (rings <= 0: v alone), into `found` (whose storage is reused: the per-vertex
+// kernels call this for every vertex of every cycle).
+inline void vertices_within(const Mesh& mesh, Mesh::VertexHandle v, int rings, std::vector<int>& found) {
+  found.assign(1, v.idx());
   std::size_t begin = 0;
   for (int r = 0; r < rings; ++r) {
     const std::size_t end = found.size();
@@ -43,17 +44,28 @@ inline std::vector<int> vertices_within(const Mesh& mesh, Mesh::VertexHandle v, 
   }
   std::sort(found.begin(), found.end());
   found.erase(std::unique(found.begin(), found.end()), found.end());
+}
+
+inline std::vector<int> vertices_within(const Mesh& mesh, Mesh::VertexHandle v, int rings) {
+  std::vector<int> found;
+  vertices_within(mesh, v, rings, found);
   return found;
 }
 
-// The faces around any of the vertices, each once, sorted by index.
-inline std::vector<int> faces_around(const Mesh& mesh, const std::vector<int>& vertices) {
-  std::vector<int> faces;
-  faces.reserve(8 * vertices.size());
+// The faces around any of the vertices, each once, sorted by index, into
+// `faces` (storage reused).
+inline void faces_around(const Mesh& mesh, const std::vector<int>& vertices, std::vector<int>& faces) {
+  faces.clear();
   for (int u : vertices)
     for (auto f : mesh.vf_range(Mesh::VertexHandle(u))) faces.push_back(f.idx());
   std::sort(faces.begin(), faces.end());
   faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+}
+
+inline std::vector<int> faces_around(const Mesh& mesh, const std::vector<int>& vertices) {
+  std::vector<int> faces;
+  faces.reserve(8 * vertices.size());
+  faces_around(mesh, vertices, faces);
   return faces;
 }
 
