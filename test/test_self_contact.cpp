@@ -27,15 +27,27 @@ PipelineOptions grown_from(const Vec3& seed) {
   return o;
 }
 
+// A bright spherical shell (radii 8 to 14 voxels) around a dark cavity, on
+// a 40^3 grid, noise 5 % of the contrast.
+ph::Grid shell_grid() {
+  ph::Grid grid;
+  grid.dims = {40, 40, 40};
+  return grid;
+}
+
+Volume noisy_shell() {
+  const ph::Grid grid = shell_grid();
+  const Vec3 c = grid.center();
+  return ph::with_gaussian_noise(
+      ph::voxelize(grid, ph::difference(ph::sphere(c, 14.0), ph::sphere(c, 8.0)), kLow, kHigh - kLow), 0.05 * (kHigh - kLow), 5u);
+}
+
 // A bright spherical shell (radii 8 to 14 voxels) around a dark cavity, the
 // model grown from a seed in the shell: the fronts go round the cavity and
 // meet on the far side, two sheets a hair apart across the object.
 TEST(SelfContact, a_shell_grown_from_one_side_meets_itself_across_the_object) {
-  ph::Grid grid;
-  grid.dims = {40, 40, 40};
-  const Vec3 c = grid.center();
-  const Volume shell = ph::with_gaussian_noise(
-      ph::voxelize(grid, ph::difference(ph::sphere(c, 14.0), ph::sphere(c, 8.0)), kLow, kHigh - kLow), 0.05 * (kHigh - kLow), 5u);
+  const Vec3 c = shell_grid().center();
+  const Volume shell = noisy_shell();
   const PipelineResult r = extract_surface(shell, grown_from(c + Vec3(11.0, 0.0, 0.0)));
   ASSERT_TRUE(r.failure.empty()) << r.failure;
   ASSERT_FALSE(r.contacts.regions.empty()) << "the model's two fronts meeting behind the cavity were not seen";
@@ -50,11 +62,8 @@ TEST(SelfContact, a_shell_grown_from_one_side_meets_itself_across_the_object) {
 }
 
 TEST(SelfContact, a_shell_filled_by_default_does_not_meet_itself) {
-  ph::Grid grid;
-  grid.dims = {40, 40, 40};
-  const Vec3 c = grid.center();
-  const Volume shell = ph::with_gaussian_noise(
-      ph::voxelize(grid, ph::difference(ph::sphere(c, 14.0), ph::sphere(c, 8.0)), kLow, kHigh - kLow), 0.05 * (kHigh - kLow), 5u);
+  const Vec3 c = shell_grid().center();
+  const Volume shell = noisy_shell();
   PipelineOptions o = grown_from(c + Vec3(11.0, 0.0, 0.0));
   o.deform.fill_cavities = true;
   const PipelineResult r = extract_surface(shell, o);

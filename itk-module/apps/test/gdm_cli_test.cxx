@@ -915,6 +915,19 @@ TEST(ModelFailure, LeakToTheBorder) {
       << "the leak stopped after " << stopped << " cycles; converging took fewer than ten times as many";
 }
 
+// A phantom (unit spacing, origin 0) as a float MetaImage.
+void write_phantom(const gdm::Volume& v, const fs::path& file) {
+  using FloatImage = itk::Image<float, 3>;
+  auto image = FloatImage::New();
+  const auto& n = v.dims();
+  image->SetRegions(FloatImage::RegionType(
+      FloatImage::SizeType{{static_cast<itk::SizeValueType>(n[0]), static_cast<itk::SizeValueType>(n[1]),
+                            static_cast<itk::SizeValueType>(n[2])}}));
+  image->Allocate();
+  std::copy(v.values().begin(), v.values().end(), image->GetBufferPointer());
+  itk::WriteImage(image, file.string());
+}
+
 // The paper's opened bottle (a dark cavity in a bright wall with an opening
 // 6 voxels across, dark outside): exit 4 (a leak) without --gap; with --gap 8
 // the opening is bridged, and the summary and the report say what the gap did.
@@ -927,12 +940,7 @@ TEST(Model, GapBridgesTheOpeningOfABottle) {
   const ph::Sdf shell = ph::difference(ph::sphere(c, 14.0), ph::sphere(c, 12.0));
   const ph::Sdf hole = [c](const gdm::Vec3& p) { return std::max(std::hypot(p.y() - c.y(), p.z() - c.z()) - 3.0, c.x() - p.x()); };
   const gdm::Volume bottle = ph::voxelize(grid, ph::difference(shell, hole), 50.0, 150.0);
-  using FloatImage = itk::Image<float, 3>;
-  auto image = FloatImage::New();
-  image->SetRegions(FloatImage::RegionType(FloatImage::SizeType{{40, 40, 40}}));
-  image->Allocate();
-  std::copy(bottle.values().begin(), bottle.values().end(), image->GetBufferPointer());
-  itk::WriteImage(image, (dir / "bottle.mha").string());
+  write_phantom(bottle, dir / "bottle.mha");
   const std::string seed = std::to_string(c.x()) + "," + std::to_string(c.y()) + "," + std::to_string(c.z());
   const std::vector<std::string> common = {"bottle.mha", "--threshold", "125", "--polarity", "dark", "--seed", seed};
   std::vector<std::string> leak = common, bridged = common;
@@ -966,12 +974,7 @@ TEST(Model, AHollowShellGivesItsOuterSurface) {
   grid.dims = {40, 40, 40};
   const gdm::Vec3 c = grid.center();
   const gdm::Volume shell = ph::voxelize(grid, ph::difference(ph::sphere(c, 14.0), ph::sphere(c, 9.0)), 50.0, 150.0);
-  using FloatImage = itk::Image<float, 3>;
-  auto image = FloatImage::New();
-  image->SetRegions(FloatImage::RegionType(FloatImage::SizeType{{40, 40, 40}}));
-  image->Allocate();
-  std::copy(shell.values().begin(), shell.values().end(), image->GetBufferPointer());
-  itk::WriteImage(image, (dir / "shell.mha").string());
+  write_phantom(shell, dir / "shell.mha");
   const std::string seed = std::to_string(c.x() + 11.5) + "," + std::to_string(c.y()) + "," + std::to_string(c.z());
   const std::vector<std::string> common = {"shell.mha", "--threshold", "125", "--seed", seed, "--seed-radius", "1.5"};
   std::vector<std::string> solid = common, lined = common;
