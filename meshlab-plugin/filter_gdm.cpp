@@ -13,10 +13,10 @@
 
 namespace {
 
+// One line: MeshLab sizes its dialog before the description wraps, so every
+// extra line of description is a line of parameters cut off at the bottom.
 const char *const kReference =
-	"<br><br>See: <i>James V. Miller, David E. Breen, William E. Lorensen, Robert M. O'Bara, Michael J. Wozny</i><br>"
-	"<b>\"Geometrically Deformed Models: A Method for Extracting Closed Geometric Models from Volume Data\"</b><br>"
-	"Computer Graphics (SIGGRAPH '91), 25(4), pages 217-226.";
+	"<br>Miller, Breen, Lorensen, O'Bara, Wozny: <b>Geometrically Deformed Models</b>, SIGGRAPH '91.";
 
 using gdm_meshlab::Filter;
 using gdm_meshlab::FilterParam;
@@ -43,8 +43,7 @@ void addOption(RichParameterList &par, const FilterParam &p)
 {
 	const auto &o = catalogueOption(p.name);
 	const double value = p.own_default ? p.default_value : o.get(gdm::PipelineOptions{});
-	const QString unit = QString::fromStdString(p.unit.empty() ? o.unit : p.unit);
-	const QString label = QString::fromStdString(o.name) + (unit.isEmpty() ? QString() : " (" + unit + ")");
+	const QString label = QString::fromStdString(gdm_meshlab::dialog_label(p));
 	const QString help = QString::fromStdString(gdm_meshlab::dialog_help(o, p));
 	const QString name = QString::fromStdString(o.name);
 	switch (o.type) {
@@ -154,22 +153,18 @@ QString FilterGdmPlugin::filterInfo(FilterIDType filterId) const
 {
 	switch (filterId) {
 	case FP_GDM_FROM_VOLUME:
-		return QString("A closed, 2-manifold, genus-0, self-intersection-free mesh of the object in a volume: the gdm "
-			"command's pipeline and defaults (Otsu's threshold, automatic seed), the same mesh. Vertex quality = the "
-			"cycle that created the vertex (Fig. 11).")
+		return QString("A closed, 2-manifold, genus-0, self-intersection-free mesh of the object in a volume, as the "
+			"gdm command makes it (Otsu's threshold and the automatic seed by default). Vertex quality = the cycle "
+			"that created the vertex (Fig. 11).")
 			+ kReference;
 	case FP_GDM_DEFORM_MESH:
-		return QString("Uses the current layer as the seed of a Geometrically Deformed Model in a volume file. The "
-			"layer must be a closed 2-manifold triangle mesh lying inside the object (grow) or around it (shrink). "
-			"The result replaces the layer or is added as a new one. Vertex quality holds the generation.")
+		return QString("The current layer (closed, 2-manifold) is the seed of a deformed model in a volume file: it "
+			"grows inside the object or shrinks around it. Vertex quality = generation.")
 			+ kReference;
 	case FP_GDM_SHRINK_WRAP:
-		return QString("Wraps the current layer (any triangles: holes, several pieces, noise; or a point cloud) in a "
-			"closed, 2-manifold, genus-0, self-intersection-free mesh: a sphere around the layer shrinks onto the "
-			"distance field of the layer (the paper's \"shrink wrap collapsing around an object\", section 1). "
-			"Holes and gaps smaller than the level of detail are bridged. Where input is left beyond 90% of the "
-			"tolerance (a crevice narrower than the wrap's faces), the wrap is refined there and shrunk again, at "
-			"most 4 times. The log gives the wrap's faces, volume and its largest distances to the input.")
+		return QString("Wraps the current layer (holes, several pieces, noise, point clouds) in a closed, 2-manifold, "
+			"genus-0, self-intersection-free mesh: a sphere shrinks onto the layer's distance field (section 1). "
+			"The log gives the estimate, the faces and the largest distances to the input.")
 			+ kReference;
 	default: assert(0); return "Unknown Filter";
 	}
@@ -297,7 +292,7 @@ bool FilterGdmPlugin::applyFilter(QAction *action, MeshDocument &md, const RichP
 			w.lod_face_area = m.deform.lod_face_area;
 			w.global_refinements = m.deform.global_refinements;
 			w.max_cycles = m.deform.max_cycles;
-			w.bridge = par.getFloat("bridge");
+			w.bridge = par.getAbsPerc("bridge");
 			w.time_limit = par.getFloat("time_limit");
 			w.memory_limit = par.getFloat("memory_limit");
 			const gdm::Mesh mesh =

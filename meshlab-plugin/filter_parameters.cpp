@@ -23,10 +23,14 @@ FilterParam param(std::string name, ParamKind kind, std::string label, std::stri
   return p;
 }
 
-FilterParam option(std::string name, std::string unit = {}) {
+// A catalogue option under a label a user reads and a help that fits beside
+// it (the script keeps its name; PARAMETERS.md gives the catalogue's help).
+FilterParam option(std::string name, std::string label, std::string help, std::string unit = {}) {
   FilterParam p;
   p.name = std::move(name);
   p.kind = ParamKind::catalogue;
+  p.label = std::move(label);
+  p.help = std::move(help);
   p.unit = std::move(unit);
   return p;
 }
@@ -36,24 +40,24 @@ FilterParam option(std::string name, std::string unit = {}) {
 std::vector<FilterParam> volume_head() {
   return {
       param("volume_file", ParamKind::volume_file, "Volume file",
-            "Choose with ...: a .mha, .mhd, .nrrd, .nii(.gz) or .vtk volume, or a slice of a DICOM series."),
+            "Choose with ...: .mha, .mhd, .nrrd, .nii(.gz), .vtk, or a slice of a DICOM series"),
       param("threshold_otsu", ParamKind::boolean, "Otsu's threshold",
-            "T by Otsu's method on the (smoothed) volume, as gdm does; off: the threshold below.",
+            "T by Otsu's method, as gdm does; off: the threshold below",
             1.0),
-      param("threshold", ParamKind::real, "Threshold (image units)",
-            "The intensity between object and background (T of eq. 2), e.g. HU for CT."),
-      option("polarity"),
-      option("smooth"),
+      param("threshold", ParamKind::real, "Threshold if not Otsu's",
+            "T of eq. 2 between object and background, in image units (e.g. HU)"),
+      option("polarity", "Object is", "bright: above the threshold; dark: below it"),
+      option("smooth", "Gaussian smoothing", "Sigma of a Gaussian applied first; 0 = none"),
   };
 }
 
 std::vector<FilterParam> volume_tail() {
   return {
-      option("gap"),
-      option("lod_face_area"),
-      option("lod_tolerance"),
-      option("min_angle"),
-      option("allow_border"),
+      option("gap", "Gap size", "Openings narrower than this are bridged, wider channels entered; 0 = two voxels"),
+      option("lod_face_area", "Face area", "Level of detail: larger faces are split (Table 2)"),
+      option("lod_tolerance", "Error tolerance", "Fewest faces within this distance of the data"),
+      option("min_angle", "Smallest angle", "Faces with a smaller angle are improved at the end; 0 = off"),
+      option("allow_border", "Object may touch the border", "Else a model reaching the border is a leak"),
       param("more_options", ParamKind::text, "More options",
             "Other options of docs/options.md as name=value pairs, e.g. a2=3 global_refinements=0"),
   };
@@ -62,7 +66,7 @@ std::vector<FilterParam> volume_tail() {
 // The wrap refines globally only when asked: its faces then stay near the
 // level of detail (4 times fewer than with one refinement, and 4 times faster).
 FilterParam wrap_refinements() {
-  FilterParam p = option("global_refinements");
+  FilterParam p = option("global_refinements", "Global refinements", "1-to-4 refinements after converging (section 6)");
   p.own_default = true;
   p.default_value = 0.0;
   return p;
@@ -75,34 +79,34 @@ std::vector<FilterParam> make(Filter filter) {
     case Filter::from_volume:
       append(volume_head());
       append({param("seed_automatic", ParamKind::boolean, "Automatic seed",
-                    "Seed at the deepest point of the largest object region (gdm's --seed auto); off: the seed point.",
+                    "At the deepest point of the largest object region; off: the point below",
                     1.0),
               param("seed_point", ParamKind::point, "Seed point (mm)",
                     "Centre of the seed sphere when the automatic seed is off; inside the object."),
-              option("seed_radius")});
+              option("seed_radius", "Seed radius", "0 = automatic: half the depth, or two voxels")});
       append(volume_tail());
       break;
     case Filter::deform_mesh:
       append(volume_head());
-      append({option("mode"),
+      append({option("mode", "Mode", "grow: the layer lies inside the object; shrink: around it"),
               param("new_layer", ParamKind::boolean, "Add the result as a new layer",
                     "Keep the current layer and add the model as a new one; off: replace it.", 1.0)});
       append(volume_tail());
       break;
     case Filter::shrink_wrap:
       append({param("cell_size", ParamKind::abs_perc, "Grid cell size",
-                    "Cells of the distance grid; the level of detail is in cells. Default: 1% of the diagonal.",
+                    "Cells of the distance grid (the face area is in cells); default 1% of the diagonal",
                     0.01),
               param("tolerance", ParamKind::abs_perc, "Tolerance",
-                    "Largest distance of the layer from the wrap, at least the cell size. Default: 2% of the diagonal.",
+                    "Largest distance of the layer from the wrap (>= a cell); default 2% of the diagonal",
                     0.02),
-              option("lod_face_area", "cell^2"), wrap_refinements(),
-              param("bridge", ParamKind::real, "Bridge (mm)",
-                    "Holes up to about this wide get a smooth cap instead of the wrap sinking in (e.g. 10 x the "
-                    "tolerance); 0 = off.",
-                    gdm::WrapOptions{}.bridge),
+              option("lod_face_area", "Face area", "Level of detail: larger faces are split", "cell^2"), wrap_refinements(),
+              // On by default (issue 18): without it the wrap sinks into every
+              // opening and stands in pyramids over it; 10 x the tolerance.
+              param("bridge", ParamKind::abs_perc, "Bridge",
+                    "Holes up to about this wide get a smooth cap; 0 = off (the wrap sinks into them)", 0.2),
               param("time_limit", ParamKind::real, "Time limit (s)",
-                    "Refuse at once a wrap estimated to take longer (the log gives the estimate); 0 = no limit.",
+                    "Refuse at once a wrap estimated to take longer (see the log); 0 = no limit",
                     gdm::WrapOptions{}.time_limit),
               param("memory_limit", ParamKind::real, "Memory limit (GiB)",
                     "Refuse at once a wrap estimated to need more memory; 0 = no limit.",
@@ -139,13 +143,26 @@ double parse_value(const gdm::OptionInfo& o, const std::string& text) {
 }  // namespace
 
 std::string dialog_help(const gdm::OptionInfo& o, const FilterParam& p) {
-  // MeshLab shows three lines of help beside a parameter: the option's help
-  // up to its first ';' when it is long, then its unit and range.
-  std::string help = o.help;
-  const auto semicolon = help.find(';');
-  if (help.size() > 90 && semicolon != std::string::npos) help = help.substr(0, semicolon);
-  const std::string unit = p.unit.empty() ? o.unit : p.unit;
-  return help + " (" + (unit.empty() ? "" : unit + "; ") + gdm::range_text(o) + ")";
+  // MeshLab 2020.09 shows about two lines of help beside a parameter (its
+  // help column, 250 pixels) and cuts the rest, seen under Xvfb: the dialog's
+  // short help, with the option's range when it still fits.
+  std::string help = p.help;
+  if (help.empty()) {
+    help = o.help;
+    const auto semicolon = help.find(';');
+    if (semicolon != std::string::npos) help = help.substr(0, semicolon);
+  }
+  const bool numeric = o.type == gdm::OptionType::real || o.type == gdm::OptionType::integer;
+  const std::string range = "(" + gdm::range_text(o) + ")";
+  if (numeric && help.size() + 1 + range.size() <= kDialogHelpCharacters) help += " " + range;
+  return help;
+}
+
+std::string dialog_label(const FilterParam& p) {
+  if (p.kind != ParamKind::catalogue) return p.label;
+  const auto* o = find_option(p.name);
+  const std::string unit = p.unit.empty() ? (o != nullptr ? o->unit : std::string()) : p.unit;
+  return (p.label.empty() ? p.name : p.label) + (unit.empty() ? "" : " (" + unit + ")");
 }
 
 const std::vector<FilterParam>& filter_parameters(Filter filter) {
@@ -232,7 +249,9 @@ std::string script(Filter filter, const std::vector<std::pair<std::string, std::
         s << "  <Param type=\"RichString\" value=\"" << value << "\" " << name << "/>\n";
         break;
       case ParamKind::abs_perc:
-        s << "  <Param type=\"RichAbsPerc\" value=\"" << (given ? value : "1") << "\" min=\"0\" max=\"1000\" " << name
+        // Not given: the default for a layer whose diagonal is 100 mm.
+        s << "  <Param type=\"RichAbsPerc\" value=\"" << (given ? value : gdm::format_number(100.0 * p.default_value))
+          << "\" min=\"0\" max=\"1000\" " << name
           << "/>\n";
         break;
       case ParamKind::catalogue: {
@@ -274,7 +293,7 @@ std::string parameters_markdown() {
     << "(Debian's meshlabserver 2020.09 aborts on a missing one): `meshlab-plugin/scripts/`\n"
     << "holds one per filter with every parameter at its default.\n";
   for (const Filter f : {Filter::from_volume, Filter::deform_mesh, Filter::shrink_wrap}) {
-    s << "\n## " << filter_name(f) << "\n\n| parameter | type | default | what it does |\n|---|---|---|---|\n";
+    s << "\n## " << filter_name(f) << "\n\n| parameter | dialog label | type | default | what it does |\n|---|---|---|---|---|\n";
     for (const auto& p : filter_parameters(f)) {
       std::string type, value, help = p.help;
       switch (p.kind) {
@@ -299,11 +318,12 @@ std::string parameters_markdown() {
           value = o->type == gdm::OptionType::boolean ? (v != 0.0 ? "true" : "false")
                   : o->type == gdm::OptionType::choice ? gdm::format_number(v) + " (" + gdm::value_text(*o, v) + ")"
                                                         : gdm::value_text(*o, v);
-          help = dialog_help(*o, p);
+          const std::string unit = p.unit.empty() ? o->unit : p.unit;
+          help = o->help + " (" + (unit.empty() ? "" : unit + "; ") + gdm::range_text(*o) + ")";
           break;
         }
       }
-      s << "| `" << p.name << "` | " << type << " | " << value << " | " << help << " |\n";
+      s << "| `" << p.name << "` | " << dialog_label(p) << " | " << type << " | " << value << " | " << help << " |\n";
     }
   }
   return s.str();

@@ -8,6 +8,7 @@
 // it is stale).
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -28,8 +29,8 @@ enum class ParamKind {
 struct FilterParam {
   std::string name;          // the parameter's name in scripts (the catalogue's for kind catalogue)
   ParamKind kind = ParamKind::real;
-  std::string label;         // the dialog's label; empty for catalogue options (their name and unit)
-  std::string help;          // the tooltip; empty for catalogue options (their help and range)
+  std::string label;         // the dialog's label (a catalogue option's gets its unit appended)
+  std::string help;          // the dialog's help (catalogue options: a short one; PARAMETERS.md has the full)
   double default_value = 0;  // booleans 0/1; abs_perc: the fraction of the bounding box diagonal
   std::string unit;          // replaces a catalogue option's unit (the wrap's level of detail is in cell^2)
   bool own_default = false;  // a catalogue option with this filter's default_value instead of the catalogue's
@@ -58,9 +59,15 @@ std::string volume_path(const std::string& path);
 // abs_perc as the length in mm): meshlab-plugin/scripts/*.mlx and the tests.
 std::string script(Filter filter, const std::vector<std::pair<std::string, std::string>>& values = {});
 
-// The help a dialog shows for a catalogue option: short enough for MeshLab's
-// three lines (its help up to the first ';' when long), its unit and range.
+// The most help MeshLab 2020.09's dialog shows beside a parameter uncut.
+constexpr std::size_t kDialogHelpCharacters = 88;
+
+// The help a dialog shows for a catalogue option: the filter's short help (or
+// the catalogue's up to its first ';'), with the option's range when it fits.
 std::string dialog_help(const gdm::OptionInfo& option, const FilterParam& param);
+
+// The label a dialog shows for `param`: a catalogue option's with its unit.
+std::string dialog_label(const FilterParam& param);
 
 // meshlab-plugin/PARAMETERS.md: every filter's parameters with defaults and help.
 std::string parameters_markdown();

@@ -23,6 +23,7 @@
 #include "gdm/seed.h"
 #include "gdm/shrink_wrap.h"
 #include "gdm/triangle_locator.h"
+#include "wrap_pyramids.h"
 
 namespace {
 
@@ -257,33 +258,6 @@ std::vector<gdm::Triangle> open_box() {
   return out;
 }
 
-// Pyramids over holes: the wrap's vertices farther than `beyond` from the
-// input (nothing in the field holds them) whose eq. 3 ratio, the distance
-// from the centroid of their neighbours over the neighbours' largest
-// separation, exceeds 0.3: they stand out of their ring like the apex of a
-// pyramid (the model's hard limit is 0.5). `free_count` gets the vertices
-// farther than `beyond`.
-std::size_t pyramids(const gdm::Mesh& wrap, const std::vector<gdm::Triangle>& input, double beyond,
-                     std::size_t* free_count) {
-  const gdm::TriangleLocator to_input(input);
-  std::size_t count = 0, free = 0;
-  for (auto v : wrap.vertices()) {
-    const gdm::Vec3 p = gdm::to_eigen(wrap.point(v));
-    if (to_input.distance(p) <= beyond) continue;
-    ++free;
-    std::vector<gdm::Vec3> ring;
-    for (auto w : wrap.vv_range(v)) ring.push_back(gdm::to_eigen(wrap.point(w)));
-    gdm::Vec3 centroid = gdm::Vec3::Zero();
-    for (const auto& q : ring) centroid += q / static_cast<double>(ring.size());
-    double extent = 0.0;
-    for (std::size_t i = 0; i < ring.size(); ++i)
-      for (std::size_t j = i + 1; j < ring.size(); ++j) extent = std::max(extent, (ring[i] - ring[j]).norm());
-    if (extent > 0.0 && (p - centroid).norm() / extent > 0.3) ++count;
-  }
-  *free_count = free;
-  return count;
-}
-
 // With a bridge of 10 x the tolerance the holes are capped: at most 1 in 20
 // of the vertices over them stands out of its ring (measured 1 of 162 on the
 // open sphere, 6 of 360 on the open box). Without a bridge (the default) the
@@ -311,9 +285,9 @@ TEST(ShrinkWrap, no_pyramids_over_holes) {
     const gdm::WrapResult faired = gdm::shrink_wrap(c.input, o);
     expect_valid_wrap(c.input, faired, c.tolerance);
     std::size_t raw_free = 0, faired_free = 0, bridged_free = 0;
-    const std::size_t before = pyramids(raw.mesh, c.input, beyond, &raw_free);
-    const std::size_t after = pyramids(faired.mesh, c.input, beyond, &faired_free);
-    const std::size_t capped = pyramids(bridged.mesh, c.input, beyond, &bridged_free);
+    const std::size_t before = gdm::test::pyramids(raw.mesh, c.input, beyond, &raw_free);
+    const std::size_t after = gdm::test::pyramids(faired.mesh, c.input, beyond, &faired_free);
+    const std::size_t capped = gdm::test::pyramids(bridged.mesh, c.input, beyond, &bridged_free);
     std::cout << c.name << ": pyramids " << before << " of " << raw_free << " free vertices without bridge or fairing, "
               << after << " of " << faired_free << " faired, " << capped << " of " << bridged_free
               << " with a bridge of 10 x the tolerance\n";

@@ -27,6 +27,7 @@
 #include "gdm/seed.h"
 #include "gdm/shrink_wrap.h"
 #include "gdm/triangle_locator.h"
+#include "wrap_pyramids.h"
 
 void write_volume(const gdm::Volume& volume, const std::string& path);
 
@@ -212,6 +213,19 @@ int check(int argc, char** argv) {
       std::snprintf(buf, sizeof buf, "largest distance of the %zu input vertices from the wrap %.4f <= %.4f",
                     input.n_vertices(), worst, tol);
       expect(worst <= tol, buf);
+    } else if (a == "--pyramids") {
+      // At most `fraction` of the wrap's vertices farther than `beyond` from
+      // the input stand out of their ring (wrap_pyramids.h).
+      const std::string input_path = argv[++i];
+      const double beyond = std::atof(argv[++i]), fraction = std::atof(argv[++i]);
+      gdm::Mesh input;
+      if (!OpenMesh::IO::read_mesh(input, input_path)) { expect(false, "read " + input_path); continue; }
+      std::size_t free = 0;
+      const std::size_t standing = gdm::test::pyramids(mesh, gdm::triangles_of(input), beyond, &free);
+      char buf[200];
+      std::snprintf(buf, sizeof buf, "%zu of the %zu vertices over holes (beyond %.3g mm) stand out of their ring <= %.3g",
+                    standing, free, beyond, fraction);
+      expect(static_cast<double>(standing) <= fraction * static_cast<double>(free), buf);
     } else if (a == "--no-contact") {
       // No face of the wrap touches the input (exact predicates), the input
       // taken at MeshLab's float precision as the plugin saw it.
@@ -317,18 +331,50 @@ int write_script(int argc, char** argv) {
   return 0;
 }
 
+// `dialogs`: every dialog's labels and helps fit MeshLab 2020.09's dialog (a
+// help longer than kDialogHelpCharacters is cut off mid-sentence beside its
+// field), and every catalogue parameter names an option of the catalogue.
+int dialogs() {
+  int bad = 0;
+  for (const gdm_meshlab::Filter f :
+       {gdm_meshlab::Filter::from_volume, gdm_meshlab::Filter::deform_mesh, gdm_meshlab::Filter::shrink_wrap})
+    for (const gdm_meshlab::FilterParam& p : gdm_meshlab::filter_parameters(f)) {
+      std::string help = p.help;
+      if (p.kind == gdm_meshlab::ParamKind::catalogue) {
+        const gdm::OptionInfo* o = nullptr;
+        for (const auto& entry : gdm::pipeline_option_catalogue())
+          if (entry.name == p.name) o = &entry;
+        if (o == nullptr) {
+          std::printf("%s: %s is no option of the catalogue\n", gdm_meshlab::filter_name(f).c_str(), p.name.c_str());
+          ++bad;
+          continue;
+        }
+        help = gdm_meshlab::dialog_help(*o, p);
+      }
+      const std::string label = gdm_meshlab::dialog_label(p);
+      if (label.empty() || label.size() > 32 || help.empty() || help.size() > gdm_meshlab::kDialogHelpCharacters) {
+        std::printf("%s: %s: label '%s' (%zu characters, at most 32), help '%s' (%zu, at most %zu)\n",
+                    gdm_meshlab::filter_name(f).c_str(), p.name.c_str(), label.c_str(), label.size(), help.c_str(),
+                    help.size(), gdm_meshlab::kDialogHelpCharacters);
+        ++bad;
+      }
+    }
+  return bad == 0 ? 0 : 1;
+}
+
 int main(int argc, char** argv) {
   if (argc >= 4 && std::string(argv[1]) == "script") return write_script(argc, argv);
   if (argc >= 2 && std::string(argv[1]) == "parameters") {
     std::cout << gdm_meshlab::parameters_markdown();
     return 0;
   }
+  if (argc >= 2 && std::string(argv[1]) == "dialogs") return dialogs();
   if (argc >= 4 && std::string(argv[1]) == "same") return same(argv[2], argv[3]);
   if (argc >= 3 && std::string(argv[1]) == "inputs") return inputs(argv[2]);
   if (argc >= 3 && std::string(argv[1]) == "check") return check(argc, argv);
   if (argc >= 6 && std::string(argv[1]) == "wrap") return wrap(argc, argv);
   std::fprintf(stderr,
-               "usage: gdm_ml_testtool script <filter> <out.mlx> [name=value...] | parameters | inputs <dir> | check <mesh> [checks...] | same <mesh> <mesh> | "
+               "usage: gdm_ml_testtool script <filter> <out.mlx> [name=value...] | parameters | dialogs | inputs <dir> | check <mesh> [checks...] | same <mesh> <mesh> | "
                "wrap <in> <out> <cell> <tol> [rounds]\n");
   return 2;
 }
