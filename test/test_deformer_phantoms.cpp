@@ -43,6 +43,37 @@ TEST(DeformPhantom, sphere_is_found_within_a_quarter_voxel) {
   EXPECT_EQ(result.border_vertices, 0u);
 }
 
+// A level of detail finer than the paper's (lod_face_area 0.5 to 5 voxel^2)
+// from a seed of radius 2 or 3 voxels, with noise: the model reaches the
+// sphere with about area / lod faces. Eq. 3's pull on such small faces
+// used to outweigh D's below 3 voxel^2, and the model stopped smaller than
+// its seed (80 faces, "converged").
+TEST(DeformPhantom, a_fine_level_of_detail_grows_from_a_small_seed) {
+  ph::Grid grid;
+  grid.dims = {48, 48, 48};
+  const double radius = 15.0;
+  const auto sdf = ph::sphere(grid.center(), radius);
+  const Volume volume = ph::with_gaussian_noise(ph::voxelize(grid, sdf, kBackground, kContrast), 0.05 * kContrast, 17);
+  const double area = 4.0 * M_PI * radius * radius;
+  for (const double lod : {0.5, 1.0, 2.0, 3.0, 5.0})
+    for (const double seed_radius : {2.0, 3.0}) {
+      Mesh mesh = make_geodesic_sphere(grid.center() + Vec3(0.5, -0.5, 0.25), seed_radius, 1);
+      DeformOptions o = default_options();
+      o.lod_face_area = lod;
+      o.global_refinements = 0;
+      const DeformResult r = deform(mesh, volume, o);
+      EXPECT_EQ(r.reason, StopReason::converged) << "lod " << lod << ", seed radius " << seed_radius;
+      test::expect_valid_closed_surface(mesh);
+      const auto d = ph::vertex_distances(mesh, sdf, volume.voxel_size());
+      // Local resampling keeps faces between lod / 4 and lod (section 5).
+      const double faces = static_cast<double>(mesh.n_faces());
+      EXPECT_GE(faces, area / lod) << "lod " << lod << ", seed radius " << seed_radius;
+      EXPECT_LE(faces, 4.0 * area / lod) << "lod " << lod << ", seed radius " << seed_radius;
+      EXPECT_LE(d.mean, 0.25) << "lod " << lod << ", seed radius " << seed_radius;
+      EXPECT_LE(d.max, 1.0) << "lod " << lod << ", seed radius " << seed_radius;
+    }
+}
+
 TEST(DeformPhantom, ellipsoid_with_anisotropic_spacing_and_rotated_axes) {
   const auto e = test::anisotropic_ellipsoid();
   const Vec3 c = e.center, radii = e.radii;

@@ -28,7 +28,8 @@ struct DeformOptions {
   int normal_rings = 2;              // rings of faces averaged into a vertex normal (section 7)
   bool local_flip = true;            // flip the deformation sense of misplaced vertices (section 5)
   OptimizerOptions optimizer;        // step range and reductions (section 3.2)
-  double lod_face_area = 10.0;       // split faces larger than this, voxel^2 (Table 2)
+  double lod_face_area = 10.0;       // split faces larger than this, voxel^2 (Table 2); below 2 the model grows
+                                     // at 4^k times it and is refined k more times (deform(): same density)
   bool lod_topology_extent = true;   // floor eq. 3's extent at the level of detail (see TopologyTerm)
   double max_topology_ratio = 0.5;   // hard limit on eq. 3's ratio against leaks (see TopologyTerm); inf = off
   double refinement_travel = 0.5;    // after a global refinement a vertex moves at most this many
