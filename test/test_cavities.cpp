@@ -51,6 +51,20 @@ DeformOptions grow(double gap = 0.0) {
 // Contact area (mm^2) of the model with itself, as the pipeline reports it.
 double contact_area(const Mesh& mesh, double voxel) { return find_self_contacts(mesh, voxel).area; }
 
+// Area (mm^2) of the regions where the model meets itself across the
+// object (two fronts that grew round something), as the pipeline reports.
+double contact_across_object(const ContactReport& contacts) {
+  double area = 0.0;
+  for (const ContactRegion& c : contacts.regions)
+    if (c.across_object) area += c.area;
+  return area;
+}
+
+double contact_across_object(const Mesh& mesh, const Volume& v, double threshold) {
+  return contact_across_object(
+      find_self_contacts(mesh, v.voxel_size(), [&](const Vec3& p) { return v.sample(p) > threshold; }));
+}
+
 // A hollow sphere (shell 3 voxels thick) grown from a seed in the shell, at
 // noise 3 to 10 % of the contrast and seeds on three sides: the model is the
 // outer sphere, within 0.1 voxel on average and 1 voxel everywhere, and it
@@ -140,6 +154,39 @@ TEST(Cavities, a_chamber_behind_a_canal_narrower_than_the_opening_is_filled) {
     EXPECT_LE(d.mean, 0.15) << "mean " << d.mean << " p95 " << d.p95 << " max " << d.max;
     EXPECT_LE(d.max, 1.5) << "a vertex " << d.max << " voxels from the outer sphere";
     EXPECT_EQ(contact_area(mesh, v.voxel_size()), 0.0);
+  }
+}
+
+// Where filling by the cavity opening could hurt a legitimate concave
+// object: a slit two voxels wide cut into a ball past its centre, and a C
+// (a tube bent round until its ends are two voxels apart). No ball of three
+// voxels enters either gap, but neither holds a wider chamber, so neither is
+// filled; the C is no handle, so no membrane closes it into a ring. Noise 5 %.
+TEST(Cavities, thin_slits_and_the_gap_of_a_c_stay_open) {
+  ph::Grid grid;
+  grid.dims = {40, 40, 40};
+  const Vec3 c = grid.center();
+  const ph::Sdf slit_ball =
+      ph::difference(ph::sphere(c, 14.0), ph::box(c + Vec3(-1.0, -4.0, -20.0), c + Vec3(1.0, 20.0, 20.0)));
+  // Ends of the C two voxels apart: R (2 pi - sweep) - 2 r = 2.
+  const double R = 12.0, r = 4.0, sweep = 2.0 * M_PI - (2.0 + 2.0 * r) / R;
+  const ph::Sdf c_tube = ph::bent_tube(c, R, r, sweep);
+  struct Case {
+    const char* name;
+    ph::Sdf sdf;
+    Vec3 seed;
+  };
+  for (const Case& k : {Case{"slit", slit_ball, c + Vec3(-7.0, 0.0, 0.0)}, Case{"C", c_tube, c + Vec3(0.0, R, 0.0)}}) {
+    const Volume v = ph::with_gaussian_noise(ph::voxelize(grid, k.sdf, kLow, kHigh - kLow), 0.05 * (kHigh - kLow), 21u);
+    Mesh mesh = make_geodesic_sphere(k.seed, 1.5, 1);
+    const DeformResult res = deform(mesh, v, grow());
+    test::expect_valid_closed_surface(mesh);
+    EXPECT_EQ(res.cavities, 0u) << k.name << ": " << cavity_summary(res);
+    EXPECT_EQ(res.handles, 0u) << k.name << ": " << handle_summary(res);
+    EXPECT_EQ(contact_across_object(mesh, v, kThreshold), 0.0) << k.name;
+    const ph::DistanceStats d = ph::vertex_distances(mesh, k.sdf, v.voxel_size());
+    std::printf("%s: %zu faces, %zu specks filled, mean %.3f p95 %.3f max %.3f voxels from the surface\n", k.name,
+                mesh.n_faces(), res.cavity_specks, d.mean, d.p95, d.max);
   }
 }
 
@@ -313,20 +360,6 @@ std::vector<Triangle> filled_tooth_surface(const Volume& tooth, double kT) {
     if (!outside[i] && solid[i] < kT) solid[i] = 255.0f;
   const Volume filled(n, std::move(solid), tooth.spacing(), tooth.origin(), tooth.direction());
   return test::marching_cubes(filled, kT);
-}
-
-// Area (mm^2) of the regions where the model meets itself across the
-// object (two fronts that grew round something), as the pipeline reports.
-double contact_across_object(const ContactReport& contacts) {
-  double area = 0.0;
-  for (const ContactRegion& c : contacts.regions)
-    if (c.across_object) area += c.area;
-  return area;
-}
-
-double contact_across_object(const Mesh& mesh, const Volume& v, double threshold) {
-  return contact_across_object(
-      find_self_contacts(mesh, v.voxel_size(), [&](const Vec3& p) { return v.sample(p) > threshold; }));
 }
 
 // The real tooth (../shared/data/tooth) from a seed in the dentin at T 115:

@@ -143,8 +143,8 @@ class CavityFinder {
   bool object_of_the_seed(std::vector<char>& object, Index3& lo, Index3& hi) const;
   void make_box(const std::vector<char>& object, const Index3& lo, const Index3& hi);
   std::vector<char> reached_by_paths(const std::vector<char>& blocked) const;
-  std::vector<char> reached_by_balls(const std::vector<double>& d2) const;
-  void fill_pockets(const std::vector<char>& reached, const std::vector<char>& by_path, const std::vector<double>& d2,
+  std::vector<char> reached_by_balls(const std::vector<float>& d2) const;
+  void fill_pockets(const std::vector<char>& reached, const std::vector<char>& by_path, const std::vector<float>& d2,
                     bool balls, CavityFill& fill);
   void cap_handles(CavityFill& fill);
   void seal_pockets(CavityFill& fill);
@@ -152,7 +152,8 @@ class CavityFinder {
   Vec3 physical(const Index3& box_voxel) const {
     return volume_.to_physical(Vec3(box_voxel[0] + lo_[0], box_voxel[1] + lo_[1], box_voxel[2] + lo_[2]));
   }
-  std::vector<double> distance_to_solid() const;
+  std::vector<float> squared_distance(const std::vector<char>& sites) const;
+  std::vector<float> distance_to_solid() const;
   Volume filled() const;
 
   const Volume& volume_;
@@ -241,7 +242,7 @@ std::vector<char> CavityFinder::reached_by_paths(const std::vector<char>& blocke
 // in from outside (passage.h's opening, seeded outside): the complement of
 // the object eroded by the ball (d2: squared distance to the object), the
 // component of the outside, dilated again.
-std::vector<char> CavityFinder::reached_by_balls(const std::vector<double>& d2) const {
+std::vector<char> CavityFinder::reached_by_balls(const std::vector<float>& d2) const {
   const double r2 = radius_ * radius_;
   std::vector<char> component(box_.count(), 0);
   std::vector<std::size_t> stack;
@@ -277,7 +278,7 @@ Cavity CavityFinder::describe(const std::vector<std::size_t>& members, CavityKin
 // fits somewhere inside it (d2 >= r^2 at one of its voxels: a centre the
 // rolling ball could not reach), else a groove or slit, left open.
 void CavityFinder::fill_pockets(const std::vector<char>& reached, const std::vector<char>& by_path,
-                                const std::vector<double>& d2, bool balls, CavityFill& fill) {
+                                const std::vector<float>& d2, bool balls, CavityFill& fill) {
   const double r2 = radius_ * radius_;
   std::vector<char> seen(reached);
   std::vector<std::size_t> stack, members;
@@ -351,11 +352,19 @@ void CavityFinder::fill_pockets(const std::vector<char>& reached, const std::vec
   }
 }
 
+// Squared distance (mm^2) of every voxel of the box to the nearest site,
+// kept as float: half the memory of the transform's doubles, which are freed
+// at once (distances are compared and ordered, never accumulated).
+std::vector<float> CavityFinder::squared_distance(const std::vector<char>& sites) const {
+  const std::vector<double> exact = squared_distance_to(sites, box_.n, volume_.spacing());
+  return std::vector<float>(exact.begin(), exact.end());
+}
+
 // Squared distance (mm^2) to the seed's object with what is filled so far.
-std::vector<double> CavityFinder::distance_to_solid() const {
+std::vector<float> CavityFinder::distance_to_solid() const {
   std::vector<char> solid(box_.count(), 0);
   for (std::size_t c = 0; c < box_.count(); ++c) solid[c] = kind_[c] == kObject || fill_[c];
-  return squared_distance_to(solid, box_.n, volume_.spacing());
+  return squared_distance(solid);
 }
 
 // How far (voxels, each side) a membrane across a handle's hole is
@@ -371,7 +380,7 @@ constexpr double kMembraneHalfThickness = 3.5;
 // widest places first (see the header); what it cannot take is the
 // membranes, given to the object and thickened.
 void CavityFinder::cap_handles(CavityFill& fill) {
-  const std::vector<double> d2 = distance_to_solid();
+  const std::vector<float> d2 = distance_to_solid();
   enum : char { kFixed = 0, kFree = 1, kQueued = 2, kReached = 3 };
   std::vector<char> state(box_.count(), kFixed);
   for (std::size_t c = 0; c < box_.count(); ++c) {
@@ -383,7 +392,7 @@ void CavityFinder::cap_handles(CavityFill& fill) {
   // index would let the front from one side take the whole plateau and put
   // the membrane at its far edge, so they are broken by a hash of the index:
   // fixed (the same result every run), without a preferred direction.
-  using Entry = std::pair<double, std::size_t>;
+  using Entry = std::pair<float, std::size_t>;
   const auto scramble = [](std::size_t c) {
     std::uint64_t z = static_cast<std::uint64_t>(c) + 0x9e3779b97f4a7c15ull;  // splitmix64's finaliser
     z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
@@ -463,7 +472,7 @@ void CavityFinder::cap_handles(CavityFill& fill) {
     members.assign(1, c);
     double widest = 0.0;
     for (std::size_t q = 0; q < members.size(); ++q) {
-      widest = std::max(widest, d2[members[q]]);
+      widest = std::max(widest, static_cast<double>(d2[members[q]]));
       const Index3 v = box_.voxel(members[q]);
       for (int dz = -1; dz <= 1; ++dz)
         for (int dy = -1; dy <= 1; ++dy)
@@ -510,7 +519,7 @@ void CavityFinder::seal_pockets(CavityFill& fill) {
   std::vector<char> blocked(box_.count(), 0);
   for (std::size_t c = 0; c < box_.count(); ++c) blocked[c] = kind_[c] == kObject || fill_[c];
   const std::vector<char> reached = reached_by_paths(blocked);
-  const std::vector<double> none;
+  const std::vector<float> none;
   fill_pockets(reached, reached, none, false, fill);
 }
 
@@ -548,7 +557,7 @@ CavityFill CavityFinder::run() {
   // a ball of at most two voxels passes wherever a path does.
   const bool balls = gap_gate_active(fill.opening, volume_);
   if (balls) {
-    std::vector<double> d2 = squared_distance_to(blocked, box_.n, volume_.spacing());
+    const std::vector<float> d2 = squared_distance(blocked);
     const std::vector<char> reached = reached_by_balls(d2);
     fill_pockets(reached, by_path, d2, true, fill);
   } else {
