@@ -15,7 +15,7 @@ namespace gdm {
 std::string to_string(CavityKind kind) {
   switch (kind) {
     case CavityKind::enclosed: return "enclosed";
-    case CavityKind::narrow_openings: return "behind narrow openings";
+    case CavityKind::narrow_openings: return "narrow_openings";
     case CavityKind::handle: return "handle";
   }
   return "unknown";

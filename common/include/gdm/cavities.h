@@ -70,7 +70,7 @@ enum class CavityKind {
   narrow_openings,  // a chamber the outside reaches only through openings narrower than W
   handle,           // a membrane across a handle's hole, at its narrowest place
 };
-// "enclosed", "behind narrow openings", "handle".
+// "enclosed", "narrow_openings", "handle" (the report's JSON and Python spell kinds so).
 std::string to_string(CavityKind kind);
 
 struct Cavity {
