@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <queue>
 #include <utility>
 
@@ -392,17 +393,19 @@ void CavityFinder::cap_handles(CavityFill& fill) {
   // index would let the front from one side take the whole plateau and put
   // the membrane at its far edge, so they are broken by a hash of the index:
   // fixed (the same result every run), without a preferred direction.
-  using Entry = std::pair<float, std::size_t>;
-  const auto scramble = [](std::size_t c) {
+  // The key: the distance's bits (a non-negative float orders as its bits)
+  // above 32 bits of the hash; the index settles what is left.
+  const auto key = [&](std::size_t c) {
     std::uint64_t z = static_cast<std::uint64_t>(c) + 0x9e3779b97f4a7c15ull;  // splitmix64's finaliser
     z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
     z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    return z ^ (z >> 31);
+    z ^= z >> 31;
+    std::uint32_t bits = 0;
+    std::memcpy(&bits, &d2[c], sizeof bits);
+    return (static_cast<std::uint64_t>(bits) << 32) | (z & 0xffffffffull);
   };
-  const auto later = [&](const Entry& a, const Entry& b) {
-    return a.first < b.first || (a.first == b.first && scramble(a.second) > scramble(b.second));
-  };
-  std::priority_queue<Entry, std::vector<Entry>, decltype(later)> queue(later);
+  using Entry = std::pair<std::uint64_t, std::size_t>;
+  std::priority_queue<Entry> queue;  // the largest key first
   const Index3& n = box_.n;
   const std::ptrdiff_t sx = 1, sy = n[0], sz = static_cast<std::ptrdiff_t>(n[0]) * n[1];
   std::array<std::ptrdiff_t, 27> offset{};
@@ -414,7 +417,7 @@ void CavityFinder::cap_handles(CavityFill& fill) {
       const std::size_t m = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(c) + offset[static_cast<std::size_t>(s)]);
       if (state[m] != kFree) continue;
       state[m] = kQueued;
-      queue.push({d2[m], m});
+      queue.push({key(m), m});
     }
   };
   for (std::size_t c = 0; c < box_.count(); ++c) {
@@ -426,7 +429,7 @@ void CavityFinder::cap_handles(CavityFill& fill) {
         u[a] += step;
         if (state[box_.index(u[0], u[1], u[2])] == kReached) {  // c is interior: u is in the box
           state[c] = kQueued;
-          queue.push({d2[c], c});
+          queue.push({key(c), c});
           break;
         }
       }
