@@ -86,7 +86,8 @@ TEST(SelfContact, a_ball_does_not_meet_itself) {
 // No false alarms: the genus-0 phantoms of the other tests (an ellipsoid on
 // an anisotropic grid, a cube with a corner missing, a Y-shaped branching,
 // a C-shaped tube), noise 3 and 8 % of the contrast, grown at the defaults
-// from the automatic seed, meet themselves nowhere and fill no cavity.
+// from the automatic seed, meet themselves nowhere, fill no cavity and cap
+// no handle.
 TEST(SelfContact, genus_zero_phantoms_raise_no_false_alarm) {
   struct Shape {
     const char* name;
@@ -132,6 +133,7 @@ TEST(SelfContact, genus_zero_phantoms_raise_no_false_alarm) {
       ASSERT_TRUE(r.failure.empty()) << shape.name << ": " << r.failure;
       EXPECT_TRUE(r.contacts.regions.empty()) << shape.name << " noise " << noise << ": " << describe_contacts(r.contacts).front();
       EXPECT_EQ(r.deform.cavities, 0u) << shape.name << " noise " << noise << ": " << cavity_summary(r.deform);
+      EXPECT_EQ(r.deform.handles, 0u) << shape.name << " noise " << noise << ": " << handle_summary(r.deform);
     }
 }
 

@@ -34,16 +34,55 @@ std::string to_string(StopReason reason) {
   return "unknown";
 }
 
+namespace {
+
+std::string point_text(const Vec3& p) {
+  return "(" + format_number(p[0], 4) + ", " + format_number(p[1], 4) + ", " + format_number(p[2], 4) + ") mm";
+}
+
+}  // namespace
+
 std::string cavity_summary(const DeformResult& r) {
-  if (r.cavities == 0) return {};
+  if (r.cavities == 0 && r.cavity_specks == 0) return {};
   std::ostringstream s;
-  s << "cavities: " << r.cavities << " enclosed region" << (r.cavities == 1 ? "" : "s") << " of background filled ("
-    << r.cavity_voxels << " voxels, " << format_number(r.cavity_volume, 4) << " mm^3; the largest around ("
-    << format_number(r.largest_cavity_centre[0], 4) << ", " << format_number(r.largest_cavity_centre[1], 4) << ", "
-    << format_number(r.largest_cavity_centre[2], 4) << ") mm): the model is the object's outer surface";
+  s << "cavities: ";
+  if (r.cavities == 0) {
+    s << "none";
+  } else {
+    const std::size_t enclosed = r.cavities - r.cavities_behind_openings;
+    if (enclosed > 0) s << enclosed << " enclosed region" << (enclosed == 1 ? "" : "s");
+    if (enclosed > 0 && r.cavities_behind_openings > 0) s << " and ";
+    if (r.cavities_behind_openings > 0)
+      s << r.cavities_behind_openings << " pocket" << (r.cavities_behind_openings == 1 ? "" : "s")
+        << " joined to the outside only through openings narrower than " << format_number(r.cavity_opening_width, 3)
+        << " mm";
+    s << " of background filled (" << r.cavity_voxels << " voxels, " << format_number(r.cavity_volume, 4)
+      << " mm^3; the largest around " << point_text(r.largest_cavity_centre) << ")";
+    // Where each pocket behind narrow openings meets the outside: what a
+    // user who wants that canal open looks for (--cavity-opening, issue 15).
+    for (const Cavity& c : r.filled_regions) {
+      if (c.kind != CavityKind::narrow_openings) continue;
+      s << "; the pocket around " << point_text(c.centre) << " (" << c.voxels << " voxels) has " << c.openings
+        << " opening" << (c.openings == 1 ? "" : "s") << ", the largest at " << point_text(c.opening_centre);
+    }
+    s << ": the model is the object's outer surface";
+  }
   if (r.cavity_specks > 0)
     s << "; " << r.cavity_specks << " speck" << (r.cavity_specks == 1 ? "" : "s") << " (under "
-      << kCavitySpeckVoxels << " voxels: noise, narrow grooves) filled too";
+      << kCavitySpeckVoxels << " voxels: noise, voxel-sized handles of a rough surface) filled too";
+  return s.str();
+}
+
+std::string handle_summary(const DeformResult& r) {
+  if (r.handles == 0) return {};
+  std::ostringstream s;
+  s << "handles: " << r.handles << " capped by a membrane across the hole at its narrowest place (" << r.handle_voxels
+    << " voxels; the model stays genus 0)";
+  for (const Cavity& c : r.filled_regions) {
+    if (c.kind != CavityKind::handle) continue;
+    s << "; at " << point_text(c.centre) << ", the hole " << format_number(c.width, 3) << " mm across, " << c.voxels
+      << " voxels";
+  }
   return s.str();
 }
 
@@ -785,6 +824,12 @@ CavityFill cavities_for(const Mesh& mesh, const Volume& volume, const DeformOpti
   c.threshold = o.threshold;
   c.background_is_brighter = o.polarity == Polarity::object_darker;
   c.gap = o.gap;
+  c.opening = o.cavity_opening;
+  c.cap_handles = o.cap_handles;
+  // A membrane the model's faces enter as fast as the handle's tube: at
+  // least 3.5 voxels each side (cavities.cpp), more for faces larger than the
+  // default level of detail's.
+  c.membrane = std::max(3.5 * volume.voxel_size(), 0.75 * lod_edge_length(o, volume.voxel_size()));
   return fill_cavities(volume, c);
 }
 
@@ -821,12 +866,21 @@ DeformResult deform(Mesh& mesh, const Volume& volume, const DeformOptions& reque
   DeformResult result = Deformer(mesh, fill.applied ? fill.volume : gated, volume, options, observer).run();
   result.gap_closed_voxels = gate.closed_voxels;
   result.gap_reachable_voxels = gate.reachable_voxels;
+  if (fill.opening > 0.0 && options.fill_cavities && options.mode == Mode::grow)
+    result.cavity_opening_width = fill.opening;
   for (const Cavity& c : fill.cavities) {  // largest first
     if (c.voxels < kCavitySpeckVoxels) {
       ++result.cavity_specks;
       continue;
     }
+    result.filled_regions.push_back(c);
+    if (c.kind == CavityKind::handle) {
+      ++result.handles;
+      result.handle_voxels += c.voxels;
+      continue;
+    }
     if (result.cavities++ == 0) result.largest_cavity_centre = c.centre;
+    if (c.kind == CavityKind::narrow_openings) ++result.cavities_behind_openings;
     result.cavity_voxels += c.voxels;
   }
   result.cavity_volume = static_cast<double>(result.cavity_voxels) * volume.spacing().prod();

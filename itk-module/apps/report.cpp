@@ -69,6 +69,7 @@ std::string summary_text(const RunRecord& r) {
   if (!finish.empty()) s << "  after convergence: " << finish << "\n";
   if (r.model.gap_closed_voxels > 0) s << "  " << gdm::gap_summary(r.model) << "\n";
   if (r.model.cavities > 0) s << "  " << gdm::cavity_summary(r.model) << "\n";
+  if (r.model.handles > 0) s << "  " << gdm::handle_summary(r.model) << "\n";
   for (const std::string& line : gdm::describe_contacts(r.contacts)) s << "  " << line << "\n";
   s << "  closed " << (m.closed ? "yes" : "NO") << ", manifold " << (m.two_manifold ? "yes" : "NO") << ", genus "
     << m.genus << ", components " << m.components << ", self-intersections " << m.self_intersections << "\n"
@@ -83,6 +84,29 @@ std::string summary_text(const RunRecord& r) {
   if (!r.output.empty()) s << "wrote " << r.output << "\n";
   return s.str();
 }
+
+namespace {
+
+// What the cavity fill filled (gdm/cavities.h), largest first: each
+// cavity, pocket behind narrow openings and handle cap, with where it is.
+std::string filled_regions_json(const gdm::DeformResult& d) {
+  const auto point = [](const gdm::Vec3& p) { return json_array(std::array<double, 3>{p.x(), p.y(), p.z()}); };
+  std::string list = "[";
+  for (std::size_t i = 0; i < d.filled_regions.size(); ++i) {
+    const gdm::Cavity& c = d.filled_regions[i];
+    JsonObject region;
+    region.add("kind", json_string(gdm::to_string(c.kind)))
+        .add("voxels", json_number(c.voxels))
+        .add("centre_mm", point(c.centre));
+    if (c.kind == gdm::CavityKind::narrow_openings)
+      region.add("openings", json_number(c.openings)).add("largest_opening_mm", point(c.opening_centre));
+    if (c.kind == gdm::CavityKind::handle) region.add("hole_width_mm", json_number(c.width));
+    list += (i ? ", " : "") + region.str(0);
+  }
+  return list + "]";
+}
+
+}  // namespace
 
 std::string report_json(const RunRecord& r, const Options& options) {
   JsonObject input;
@@ -135,6 +159,11 @@ std::string report_json(const RunRecord& r, const Options& options) {
       .add("cavity_voxels", json_number(r.model.cavity_voxels))
       .add("cavity_volume_mm3", json_number(r.model.cavity_volume))
       .add("cavity_specks", json_number(r.model.cavity_specks))
+      .add("cavities_behind_openings", json_number(r.model.cavities_behind_openings))
+      .add("cavity_opening_mm", json_number(r.model.cavity_opening_width))
+      .add("handles", json_number(r.model.handles))
+      .add("handle_voxels", json_number(r.model.handle_voxels))
+      .add("filled_regions", filled_regions_json(r.model))
       .add("seconds", json_number(r.model_seconds));
 
   const gdm::MeshReport& m = r.mesh;

@@ -329,10 +329,12 @@ public:
   itkGetConstMacro(GapSize, double);
 
   /** Growing, fill the background the outside cannot reach (a hollow
-   * shell's inside; with a gap size, chambers joined to the outside only
-   * through openings narrower than it) before the model grows: the model is
-   * the object's outer surface, without a double-walled sheet around each
-   * cavity. On by default. */
+   * shell's inside; chambers joined to the outside only through openings
+   * narrower than the cavity opening, SetOption("cavity_opening", W), three
+   * voxels by default) and cap each handle by a membrane across its hole
+   * (SetOption("cap_handles", 0) to keep the handle) before the model grows:
+   * the model is the object's outer surface, without a double-walled sheet
+   * around each cavity. On by default. */
   itkSetMacro(FillCavities, bool);
   itkGetConstMacro(FillCavities, bool);
   itkBooleanMacro(FillCavities);
@@ -418,6 +420,11 @@ public:
    * (physical units^3). */
   itkGetConstMacro(NumberOfFilledCavities, SizeValueType);
   itkGetConstMacro(FilledCavityVolume, double);
+  /** Of those, the pockets joined to the outside only through openings
+   * narrower than the cavity opening; and the handles capped by a membrane
+   * across the hole at its narrowest place (the model stays genus 0). */
+  itkGetConstMacro(NumberOfCavitiesBehindNarrowOpenings, SizeValueType);
+  itkGetConstMacro(NumberOfCappedHandles, SizeValueType);
   /** Where the model meets itself (two parts of the surface closer than a
    * voxel, facing each other): regions and their area (physical units^2).
    * A region across the object means the model grew around a cavity or a
@@ -533,6 +540,8 @@ private:
   SizeValueType m_NumberOfBridgeVertices{ 0 };
   SizeValueType m_NumberOfFilledCavities{ 0 };
   double        m_FilledCavityVolume{ 0.0 };
+  SizeValueType m_NumberOfCavitiesBehindNarrowOpenings{ 0 };
+  SizeValueType m_NumberOfCappedHandles{ 0 };
   SizeValueType m_NumberOfContactRegions{ 0 };
   double        m_ContactArea{ 0.0 };
 

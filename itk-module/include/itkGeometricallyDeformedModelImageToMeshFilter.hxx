@@ -196,6 +196,8 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::GenerateD
   m_NumberOfBridgeVertices = 0;
   m_NumberOfFilledCavities = 0;
   m_FilledCavityVolume = 0.0;
+  m_NumberOfCavitiesBehindNarrowOpenings = 0;
+  m_NumberOfCappedHandles = 0;
   m_NumberOfContactRegions = 0;
   m_ContactArea = 0.0;
   this->SetCurrentCycleReport(gdm::CycleReport{});
@@ -286,6 +288,8 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::GenerateD
     m_NumberOfBridgeVertices = static_cast<SizeValueType>(result.bridge_vertices);
     m_NumberOfFilledCavities = static_cast<SizeValueType>(result.cavities);
     m_FilledCavityVolume = result.cavity_volume;
+    m_NumberOfCavitiesBehindNarrowOpenings = static_cast<SizeValueType>(result.cavities_behind_openings);
+    m_NumberOfCappedHandles = static_cast<SizeValueType>(result.handles);
     m_NumberOfContactRegions = static_cast<SizeValueType>(pipelineResult.contacts.regions.size());
     m_ContactArea = pipelineResult.contacts.area;
 
@@ -380,6 +384,8 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::PrintSelf
   os << indent << "NumberOfBridgeVertices: " << m_NumberOfBridgeVertices << std::endl;
   os << indent << "NumberOfFilledCavities: " << m_NumberOfFilledCavities << std::endl;
   os << indent << "FilledCavityVolume: " << m_FilledCavityVolume << std::endl;
+  os << indent << "NumberOfCavitiesBehindNarrowOpenings: " << m_NumberOfCavitiesBehindNarrowOpenings << std::endl;
+  os << indent << "NumberOfCappedHandles: " << m_NumberOfCappedHandles << std::endl;
   os << indent << "NumberOfContactRegions: " << m_NumberOfContactRegions << std::endl;
   os << indent << "ContactArea: " << m_ContactArea << std::endl;
   os << indent << "CurrentCycle: " << m_CurrentCycle << std::endl;

@@ -184,7 +184,7 @@ ExerciseBasicsAndSetGet()
          "MaximumNumberOfCycles", "ConvergenceTolerance", "ConvergenceWindow", "PreventSelfIntersection",
          "ImproveTriangles", "FlipMaximumDihedralAngle", "MaximumNumberOfFaces", "SubvoxelFit", "NumberOfFitPasses",
          "FitMaximumDistance", "FitSmoothing", "LevelOfDetailTolerance", "LevelOfDetailMinimumAngle", "LevelOfDetailRounds", "MinimumAngle",
-         "MaximumTopologyRatio", "RefinementTravel", "GapSize", "NumberOfGapClosedVoxels", "FillCavities", "NumberOfFilledCavities", "FilledCavityVolume", "FloatExactOutput", "SeedCenter", "SeedRadius",
+         "MaximumTopologyRatio", "RefinementTravel", "GapSize", "NumberOfGapClosedVoxels", "FillCavities", "NumberOfFilledCavities", "FilledCavityVolume", "NumberOfCavitiesBehindNarrowOpenings", "NumberOfCappedHandles", "FloatExactOutput", "SeedCenter", "SeedRadius",
          "SeedSubdivisionLevel", "StopReason", "NumberOfCycles", "NumberOfGlobalRefinementsPerformed",
          "NumberOfRejectedMoves", "NumberOfFlips", "NumberOfBorderVertices", "NumberOfFitMoves",
          "NumberOfLevelOfDetailSplits", "NumberOfLevelOfDetailCollapses", "NumberOfFloatRefusedVertices",

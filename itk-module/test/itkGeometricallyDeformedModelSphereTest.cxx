@@ -360,3 +360,51 @@ TEST(itkGDMSphere, FillCavitiesGivesTheOuterSurfaceOfAHollowSphere)
   EXPECT_EQ(lined->GetNumberOfFilledCavities(), 0u);
   EXPECT_LT(lined_nearest, inner + 1.0) << "off, the model should line the cavity";
 }
+
+// A bright torus (tube of radius 5 around a circle of radius 12) grown from a
+// seed in its tube (issue 15's solid topology): the hole is capped by a
+// membrane at its narrowest place, the filter says so and the model meets
+// itself nowhere; with SetOption("cap_handles", 0) the model goes round the
+// tube and meets itself across it.
+TEST(itkGDMSphere, AHandleIsCappedAcrossItsHole)
+{
+  using TorusImage = itk::Image<float, 3>;
+  auto                   image = TorusImage::New();
+  TorusImage::RegionType region;
+  TorusImage::SizeType   size;
+  size[0] = 44;
+  size[1] = 44;
+  size[2] = 22;
+  region.SetSize(size);
+  image->SetRegions(region);
+  image->Allocate();
+  const double c = 21.5, cz = 10.5, R = 12.0, r = 5.0;
+  for (itk::ImageRegionIteratorWithIndex<TorusImage> it(image, region); !it.IsAtEnd(); ++it)
+  {
+    const auto   i = it.GetIndex();
+    const double tube = std::hypot(std::hypot(i[0] - c, i[1] - c) - R, i[2] - cz) - r;
+    it.Set(static_cast<float>(50.0 + 150.0 * std::clamp(0.5 - tube, 0.0, 1.0)));
+  }
+  using FilterType = itk::GeometricallyDeformedModelImageToMeshFilter<TorusImage, itk::Mesh<float, 3>>;
+  const auto run = [&](bool cap) {
+    auto filter = FilterType::New();
+    filter->SetInput(image);
+    filter->SetThreshold(125.0);
+    FilterType::PointType seed;
+    seed[0] = c;
+    seed[1] = c - R;
+    seed[2] = cz;
+    filter->SetSeedCenter(seed);
+    filter->SetSeedRadius(1.5);
+    filter->SetOption("cap_handles", cap ? 1.0 : 0.0);
+    filter->Update();
+    return filter;
+  };
+  const auto capped = run(true);
+  EXPECT_EQ(capped->GetNumberOfCappedHandles(), 1u);
+  EXPECT_EQ(capped->GetNumberOfFilledCavities(), 0u);
+  EXPECT_EQ(capped->GetNumberOfContactRegions(), 0u);
+  const auto open = run(false);
+  EXPECT_EQ(open->GetNumberOfCappedHandles(), 0u);
+  EXPECT_GT(open->GetNumberOfContactRegions(), 0u);
+}

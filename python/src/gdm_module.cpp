@@ -650,6 +650,25 @@ py::dict model_report(const gdm::DeformResult& r, double seconds) {
   d["cavity_voxels"] = r.cavity_voxels;
   d["cavity_volume_mm3"] = r.cavity_volume;
   d["cavity_specks"] = r.cavity_specks;
+  d["cavities_behind_openings"] = r.cavities_behind_openings;
+  d["cavity_opening_mm"] = r.cavity_opening_width;
+  d["handles"] = r.handles;
+  d["handle_voxels"] = r.handle_voxels;
+  // Each cavity, pocket behind narrow openings and handle cap, largest first.
+  py::list regions;
+  for (const gdm::Cavity& c : r.filled_regions) {
+    py::dict region;
+    region["kind"] = gdm::to_string(c.kind);
+    region["voxels"] = c.voxels;
+    region["centre_mm"] = list3(c.centre);
+    if (c.kind == gdm::CavityKind::narrow_openings) {
+      region["openings"] = c.openings;
+      region["largest_opening_mm"] = list3(c.opening_centre);
+    }
+    if (c.kind == gdm::CavityKind::handle) region["hole_width_mm"] = c.width;
+    regions.append(region);
+  }
+  d["filled_regions"] = regions;
   d["seconds"] = seconds;
   return d;
 }

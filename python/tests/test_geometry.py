@@ -198,3 +198,27 @@ def test_a_hollow_shell_gives_its_outer_surface():
     lined = gdm.extract_surface(volume, threshold=125, seed=seed, seed_radius=1.5, fill_cavities=False)
     assert lined.report["model"]["cavities"] == 0
     assert np.linalg.norm(np.asarray(lined.vertices) - c, axis=1).min() < inner + 1.0
+
+
+def test_a_torus_is_capped_across_its_hole():
+    """cap_handles (on by default, with fill_cavities): a model grown in a
+    torus's tube keeps genus 0 by a membrane across the hole at its narrowest
+    place, and the report's filled_regions says where; off, the model goes
+    round the tube and the report names where its fronts meet."""
+    nx, nz, big, small = 44, 22, 12.0, 5.0
+    cx, cz = (nx - 1) / 2.0, (nz - 1) / 2.0
+    i, j, k = np.meshgrid(np.arange(nx) - cx, np.arange(nx) - cx, np.arange(nz) - cz, indexing="ij")
+    tube = np.hypot(np.hypot(i, j) - big, k) - small
+    volume = np.asfortranarray((50.0 + 150.0 * np.clip(0.5 - tube, 0.0, 1.0)).astype(np.float32))
+    seed = (cx, cx - big, cz)
+    capped = gdm.extract_surface(volume, threshold=125, seed=seed, seed_radius=1.5)
+    model = capped.report["model"]
+    assert model["handles"] == 1 and model["cavities"] == 0
+    [cap] = [r for r in model["filled_regions"] if r["kind"] == "handle"]
+    assert np.linalg.norm(np.asarray(cap["centre_mm"]) - (cx, cx, cz)) < 1.5  # the hole's waist
+    assert abs(cap["hole_width_mm"] - 2.0 * (big - small)) < 2.5
+    assert capped.report["contacts"]["regions"] == 0
+    assert capped.report["mesh"]["genus"] == 0
+    kept = gdm.extract_surface(volume, threshold=125, seed=seed, seed_radius=1.5, cap_handles=False)
+    assert kept.report["model"]["handles"] == 0
+    assert kept.report["contacts"]["regions"] > 0

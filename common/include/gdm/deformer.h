@@ -7,7 +7,9 @@
 #include <functional>
 #include <limits>
 #include <string>
+#include <vector>
 
+#include "gdm/cavities.h"
 #include "gdm/cost_terms.h"
 #include "gdm/obstacle.h"
 #include "gdm/mesh.h"
@@ -40,10 +42,18 @@ struct DeformOptions {
                                      // bridged, channels wider are followed; 0 (or up to two voxels) =
                                      // no gate, every channel two voxels wide is open
   bool fill_cavities = true;         // growing, background the outside cannot reach (a hollow shell's
-                                     // inside; with a gap G, chambers joined to the outside only through
-                                     // openings narrower than G) is given to the object first
+                                     // inside; chambers joined to the outside only through openings
+                                     // narrower than cavity_opening) is given to the object first
                                      // (cavities.h): the model is the outer surface, with no
                                      // double-walled sheet around the cavity
+  double cavity_opening = 0.0;       // W, mm: with fill_cavities, a pocket of background the outside
+                                     // reaches only through openings narrower than a ball of diameter W
+                                     // (and wider inside) is filled: the tooth's pulp behind canals one
+                                     // or two voxels wide; 0 = three voxels; up to two voxels = any path
+                                     // of voxels keeps a pocket open (issue 15); a larger gap wins
+  bool cap_handles = true;           // with fill_cavities, a membrane across each handle's hole at its
+                                     // narrowest place (cavities.h): a genus-0 model of a torus without
+                                     // two fronts meeting across its tube; reported as a handle
   bool refine_channels = false;      // once the last stage converged, refine locally where faces are too
                                      // large to enter a channel the image shows (so the level of detail
                                      // sets face sizes, the gap where the model goes); off by default: on
@@ -125,7 +135,16 @@ struct DeformResult {
   std::size_t cavity_voxels = 0;         // their voxels
   double cavity_volume = 0.0;            // their volume, mm^3
   Vec3 largest_cavity_centre = Vec3::Zero();  // centroid of the largest, mm
-  std::size_t cavity_specks = 0;         // smaller enclosed regions (specks of noise), filled too
+  std::size_t cavity_specks = 0;         // smaller regions (specks of noise, voxel-sized handles of a rough
+                                         // surface), filled too
+  std::size_t cavities_behind_openings = 0;  // of `cavities`, those the outside reaches only through
+                                             // openings narrower than cavity_opening_width
+  double cavity_opening_width = 0.0;     // that width W, mm (0: no fill)
+  std::size_t handles = 0;               // handles capped by a membrane across the hole (cap_handles), of at
+                                         // least kCavitySpeckVoxels voxels
+  std::size_t handle_voxels = 0;         // the membranes' voxels
+  std::vector<Cavity> filled_regions;    // every cavity and membrane counted above (kind, voxels, centre,
+                                         // openings), largest first
   std::size_t quality_flips = 0;      // edge flips of the triangle-quality pass
   std::size_t quality_splits = 0;     // cap edges split by it
   std::size_t quality_collapses = 0;  // short edges collapsed by it
@@ -141,8 +160,14 @@ std::string gap_summary(const DeformResult& result);
 
 // What the cavity fill did, for logs: "cavities: 2 enclosed regions of
 // background filled (1,234 voxels, 1234 mm^3; the largest around (12.5, 40,
-// 8) mm): the model is the object's outer surface". Empty when none.
+// 8) mm): the model is the object's outer surface", with the pockets filled
+// behind narrow openings and where their openings are. Empty when none.
 std::string cavity_summary(const DeformResult& result);
+
+// What the handle caps are, for logs: "handles: 1 capped by a membrane
+// across its hole (the solid topology keeps the model genus 0): at (x, y, z)
+// mm, the hole 12 mm across there, 420 voxels". Empty when none.
+std::string handle_summary(const DeformResult& result);
 
 // Checks the options against the volume; throws InvalidOption or InvalidVolume.
 void validate(const DeformOptions& options, const Volume& volume);

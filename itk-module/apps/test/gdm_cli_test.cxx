@@ -997,6 +997,43 @@ TEST(Model, AHollowShellGivesItsOuterSurface) {
   EXPECT_EQ(json_value(slurp(dir / "lined.json"), "cavities"), 0.0);
 }
 
+// A bright torus (tube of radius 5 around a circle of radius 12) grown from a
+// seed in its tube: by default the hole is capped by a membrane at its
+// narrowest place, the model is genus 0 and meets itself nowhere, and the
+// summary and the report say where the cap is. With --cap-handles off the
+// model goes round the tube from both sides and the summary reports where
+// its fronts meet.
+TEST(Model, ATorusIsCappedAcrossItsHole) {
+  const fs::path dir = work_dir();
+  namespace ph = gdm::phantoms;
+  ph::Grid grid;
+  grid.dims = {44, 44, 22};
+  const gdm::Vec3 c = grid.center();
+  const ph::Sdf torus = [c](const gdm::Vec3& p) {
+    return std::hypot(std::hypot(p.x() - c.x(), p.y() - c.y()) - 12.0, p.z() - c.z()) - 5.0;
+  };
+  write_phantom(ph::voxelize(grid, torus, 50.0, 150.0), dir / "torus.mha");
+  const std::string seed = std::to_string(c.x()) + "," + std::to_string(c.y() - 12.0) + "," + std::to_string(c.z());
+  const std::vector<std::string> common = {"torus.mha", "--threshold", "125", "--seed", seed, "--seed-radius", "1.5"};
+  std::vector<std::string> capped = common, open = common;
+  capped.insert(capped.end(), {"-o", "capped.ply", "--report", "capped.json"});
+  open.insert(open.end(), {"--cap-handles", "off", "-o", "open.ply", "--report", "open.json"});
+  const GdmRun s = run_gdm(dir, capped);
+  ASSERT_EQ(s.code, 0) << s.err;
+  EXPECT_NE(s.out.find("handles: 1 capped by a membrane across the hole"), std::string::npos) << s.out;
+  EXPECT_EQ(s.out.find("meets itself"), std::string::npos) << s.out;
+  const std::string json = slurp(dir / "capped.json");
+  EXPECT_EQ(json_value(json, "handles"), 1.0);
+  EXPECT_EQ(json_value(json, "cavities"), 0.0);
+  EXPECT_NE(json.find("\"kind\": \"handle\""), std::string::npos) << json;
+  expect_valid_model(measure(read_mesh(dir / "capped.ply")));
+  const GdmRun o = run_gdm(dir, open);
+  ASSERT_EQ(o.code, 0) << o.err;
+  EXPECT_EQ(o.out.find("handles:"), std::string::npos) << o.out;
+  EXPECT_NE(o.out.find("meets itself"), std::string::npos) << o.out;
+  EXPECT_EQ(json_value(slurp(dir / "open.json"), "handles"), 0.0);
+}
+
 // ------------------------------------------------------------- phantom --
 
 TEST(Phantom, GeneratorReproducesTheCommittedFile) {
