@@ -1,6 +1,11 @@
 # Fails when meshlab-plugin/PARAMETERS.md or meshlab-plugin/scripts/*.mlx
 # differ from what the filters' parameter lists generate; says how to refresh.
 #   TOOL (gdm_ml_testtool), SOURCE (meshlab-plugin/), WORK (scratch folder)
+# Writes into a folder of its own: the cases' scripts in WORK have the same
+# names (from_volume.mlx, ...), and overwriting them while a case reads them
+# made meshlab_from_volume fail now and then under ctest -j2.
+set(WORK ${WORK}/parameters-check)
+file(MAKE_DIRECTORY ${WORK})
 execute_process(COMMAND ${TOOL} parameters OUTPUT_FILE ${WORK}/PARAMETERS.md RESULT_VARIABLE rc)
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "gdm_ml_testtool parameters failed")
