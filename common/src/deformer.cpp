@@ -9,6 +9,7 @@
 #include "gdm/cavities.h"
 #include "gdm/error_lod.h"
 #include "gdm/errors.h"
+#include "gdm/face_budget.h"
 #include "gdm/float_snap.h"
 #include "gdm/intersection_guard.h"
 #include "gdm/option_catalogue.h"
@@ -78,6 +79,13 @@ double lod_ring_extent(const DeformOptions& o, double voxel) { return 2.0 * lod_
 // How far a flip or a collapse of the triangle-quality pass may move the surface, voxels.
 constexpr double kQualityMaxError = 0.1;
 
+// The face budget: the fitted model has at least this many times the budget's
+// faces before it is reduced (more faces to choose from, at the cost of a
+// finer fit), and after the triangle-quality pass the count is brought back
+// to the budget when it drifted above this fraction over it.
+constexpr double kBudgetSourceFactor = 2.0;
+constexpr double kBudgetSlack = 0.02;
+
 }  // namespace
 
 void validate(const DeformOptions& o, const Volume& volume) {
@@ -90,6 +98,14 @@ void validate(const DeformOptions& o, const Volume& volume) {
   require(!o.obstacle || (!o.subvoxel_fit && o.lod_tolerance == 0.0),
           "an obstacle needs subvoxel_fit off and lod_tolerance 0 (the fit and the error-driven level of detail "
           "do not check obstacles)");
+  require(o.face_budget == 0 || o.face_budget <= o.max_faces,
+          "face_budget " + std::to_string(o.face_budget) + " is above max_faces " + std::to_string(o.max_faces) +
+              ": raise max_faces or ask for fewer faces");
+  require(o.face_budget == 0 || o.lod_tolerance == 0.0,
+          "face_budget and lod_tolerance both choose the number of faces: set one of them (lod_tolerance 0 or "
+          "face_budget 0)");
+  require(o.face_budget == 0 || !o.obstacle,
+          "an obstacle needs face_budget 0 (the budget's collapses do not check obstacles)");
 
   if (volume.voxel_count() == 0) throw InvalidVolume("the volume is empty");
   if (!(volume.max_value() > volume.min_value()))
@@ -151,6 +167,9 @@ class Deformer {
   std::size_t refine_where_blocked(int cycle);
   std::size_t relax_bridges();
   void improve_quality(DeformResult& result);
+  void refine_for_budget(int cycle, const FitOptions& fit, std::vector<Vec3>& origin, DeformResult& result);
+  void reduce_to_budget(const FitOptions& fit, DeformResult& result);
+  void settle_budget(DeformResult& result);
 
   Mesh& mesh_;
   const Volume& volume_;
@@ -547,7 +566,8 @@ std::size_t Deformer::count_border_vertices() const {
 // leaves the faces, fit again).
 void Deformer::finish(int cycle, DeformResult& result) {
   const bool lod = o_.lod_tolerance > 0.0;
-  if (!o_.subvoxel_fit && !lod) return;
+  const bool budget = o_.face_budget > 0;
+  if (!o_.subvoxel_fit && !lod && !budget) return;
   FitOptions fit;
   fit.passes = o_.fit_passes;
   fit.max_distance = o_.fit_max_distance;
@@ -559,7 +579,11 @@ void Deformer::finish(int cycle, DeformResult& result) {
   // The fit keeps what a vertex alone sees in proportion to the image noise.
   fit.noise = estimate_crossing_noise(mesh_, volume_, o_.threshold, std::max(1.5, 3.0 * o_.lod_tolerance) * voxel_);
   std::vector<Vec3> origin;  // where the deformation left each vertex (new ones: where created)
-  if (o_.subvoxel_fit) result.fit_moves += fit_to_threshold(mesh_, volume_, o_.threshold, fit, origin).moves;
+  if (o_.subvoxel_fit || budget) result.fit_moves += fit_to_threshold(mesh_, volume_, o_.threshold, fit, origin).moves;
+  if (budget) {
+    refine_for_budget(cycle, fit, origin, result);
+    reduce_to_budget(fit, result);
+  }
   if (!lod) return;
   const double tolerance = o_.lod_tolerance * voxel_;
   CollapseOptions collapse;
@@ -581,6 +605,49 @@ void Deformer::finish(int cycle, DeformResult& result) {
   mesh_.release_edge_status();
   mesh_.release_halfedge_status();
   mesh_.release_face_status();
+}
+
+// Beyond the paper (issue 16): the face budget needs a fitted model with more
+// faces than the budget to choose from. While it has fewer than
+// kBudgetSourceFactor times the budget, every face becomes four (section 6's
+// global resampling: the new triangles lie inside the old ones) and the fit
+// puts the new vertices on the threshold surface (anchored where they were
+// created), as long as the faces stay within max_faces.
+void Deformer::refine_for_budget(int cycle, const FitOptions& fit, std::vector<Vec3>& origin, DeformResult& result) {
+  while (static_cast<double>(mesh_.n_faces()) < kBudgetSourceFactor * static_cast<double>(o_.face_budget) &&
+         4 * mesh_.n_faces() <= o_.max_faces) {
+    subdivide_all(mesh_, cycle);
+    ++result.budget_subdivisions;
+    result.fit_moves += fit_to_threshold(mesh_, volume_, o_.threshold, fit, origin).moves;
+  }
+}
+
+// The fitted model reduced to the budget by guarded collapses, least quadric
+// error of the fitted surface first (face_budget.h; the floor of new angles
+// is the triangle-quality bound, or lod_min_angle when that is off), then
+// fitted again: a kept vertex sat on the fine surface, the faces between
+// them now lie across it.
+void Deformer::reduce_to_budget(const FitOptions& fit, DeformResult& result) {
+  ReduceOptions r;
+  r.faces = o_.face_budget;
+  r.min_angle = o_.min_angle > 0.0 ? o_.min_angle : o_.lod_min_angle;
+  result.budget_collapses += reduce_to_faces(mesh_, r).collapses;
+  std::vector<Vec3> origin;  // anchored where the reduction left the vertices
+  result.fit_moves += fit_to_threshold(mesh_, volume_, o_.threshold, fit, origin).moves;
+}
+
+// After the triangle-quality pass (its splits add faces, its collapses remove
+// them): a count that drifted above the budget by more than kBudgetSlack is
+// collapsed back to it, keeping the quality bound (a new face stays above
+// min_angle, or above the smallest angle around when that is lower).
+void Deformer::settle_budget(DeformResult& result) {
+  if (o_.face_budget == 0) return;
+  if (static_cast<double>(mesh_.n_faces()) <= (1.0 + kBudgetSlack) * static_cast<double>(o_.face_budget)) return;
+  ReduceOptions r;
+  r.faces = o_.face_budget;
+  r.min_angle = o_.min_angle > 0.0 ? o_.min_angle : o_.lod_min_angle;
+  r.keep_floor = true;
+  result.budget_collapses += reduce_to_faces(mesh_, r).collapses;
 }
 
 // Beyond the paper: a shrinking model's faces shrink with it (a sphere
@@ -722,6 +789,7 @@ DeformResult Deformer::run() {
     finish(cycle, result);
     if (&volume_ != &input_) result.bridge_vertices = relax_bridges();
     improve_quality(result);
+    settle_budget(result);
   }
   if (o_.float_exact_output && result.reason != StopReason::cancelled) result.float_refused = snap_to_float(mesh_).refused;
   result.cycles = cycle;
@@ -729,6 +797,8 @@ DeformResult Deformer::run() {
   result.rejected_moves = rejected_earlier_stages_ + guard_->statistics().rejected_moves;
   result.flips = flips_;
   result.border_vertices = count_border_vertices();
+  result.face_budget = o_.face_budget;
+  result.faces = mesh_.n_faces();
   return result;
 }
 

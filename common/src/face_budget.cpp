@@ -1,0 +1,162 @@
+#include "gdm/face_budget.h"
+
+#include <algorithm>
+#include <cmath>
+#include <queue>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "gdm/error_lod.h"
+
+namespace gdm {
+
+namespace {
+
+using Quadric = Eigen::Matrix4d;
+
+Vec3 pos(const Mesh& mesh, Mesh::VertexHandle v) { return to_eigen(mesh.point(v)); }
+
+// The plane of the triangle abc as a quadric weighted by its area: p^T Q p is
+// the area times the squared distance of p from the plane (Garland and
+// Heckbert's error, here of the fitted surface).
+Quadric face_quadric(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 n = (b - a).cross(c - a);
+  const double twice_area = n.norm();
+  if (!(twice_area > 0.0)) return Quadric::Zero();
+  const Vec3 u = n / twice_area;
+  const Eigen::Vector4d plane(u.x(), u.y(), u.z(), -u.dot(a));
+  return (0.5 * twice_area) * plane * plane.transpose();
+}
+
+double quadric_error(const Quadric& q, const Vec3& p) {
+  const Eigen::Vector4d h(p.x(), p.y(), p.z(), 1.0);
+  return h.dot(q * h);
+}
+
+// A candidate collapse: halfedge `h` (from -> to), with the stamps its
+// vertices had when the error was computed (a later collapse into either
+// makes the entry stale; a fresh one is queued then).
+struct Candidate {
+  double error;
+  int h;
+  int from, to;
+  unsigned from_stamp, to_stamp;
+  // Least error first, ties by halfedge index: a fixed order.
+  bool operator>(const Candidate& o) const { return error != o.error ? error > o.error : h > o.h; }
+};
+
+class Reducer {
+ public:
+  Reducer(Mesh& mesh, const ReduceOptions& o) : mesh_(mesh), o_(o) {
+    quadric_.assign(mesh.n_vertices(), Quadric::Zero());
+    stamp_.assign(mesh.n_vertices(), 0u);
+    for (auto f : mesh.faces()) {
+      auto it = mesh.cfv_iter(f);
+      const auto a = *it, b = *++it, c = *++it;
+      const Quadric q = face_quadric(pos(mesh, a), pos(mesh, b), pos(mesh, c));
+      for (auto v : {a, b, c}) quadric_[v.idx()] += q;
+    }
+    faces_ = mesh.n_faces();
+  }
+
+  ReduceResult run() {
+    ReduceResult r;
+    // Rounds: a collapse refused once may become possible after its
+    // neighbours changed; when a round ends short of the target, the quality
+    // floor is halved, then dropped (the guarantees stay).
+    const double floors[] = {o_.min_angle, o_.min_angle, 0.5 * o_.min_angle, 0.0};
+    for (const double floor : floors) {
+      if (faces_ <= o_.faces || (o_.keep_floor && floor < o_.min_angle)) break;
+      const std::size_t made = round(floor);
+      r.collapses += made;
+      if (made == 0 && floor == 0.0) break;
+    }
+    r.faces = faces_;
+    return r;
+  }
+
+ private:
+  void queue_halfedge(Mesh::HalfedgeHandle h) {
+    const auto from = mesh_.from_vertex_handle(h), to = mesh_.to_vertex_handle(h);
+    const double error = quadric_error(quadric_[from.idx()] + quadric_[to.idx()], pos(mesh_, to));
+    queue_.push({error, h.idx(), from.idx(), to.idx(), stamp_[from.idx()], stamp_[to.idx()]});
+  }
+
+  void queue_around(Mesh::VertexHandle v) {
+    for (auto h : mesh_.voh_range(v)) {
+      queue_halfedge(h);
+      queue_halfedge(mesh_.opposite_halfedge_handle(h));
+    }
+  }
+
+  bool stale(const Candidate& c) const {
+    const Mesh::HalfedgeHandle h(c.h);
+    if (mesh_.status(mesh_.edge_handle(h)).deleted()) return true;
+    if (mesh_.from_vertex_handle(h).idx() != c.from || mesh_.to_vertex_handle(h).idx() != c.to) return true;
+    return stamp_[c.from] != c.from_stamp || stamp_[c.to] != c.to_stamp;
+  }
+
+  std::size_t round(double floor) {
+    double length = 0.0;
+    std::size_t edges = 0;
+    for (auto e : mesh_.edges())
+      if (!mesh_.status(e).deleted()) {
+        length += mesh_.calc_edge_length(e);
+        ++edges;
+      }
+    const double mean_edge = length / static_cast<double>(std::max<std::size_t>(1, edges));
+    CollapseChecker checker(mesh_, 2.0 * mean_edge);
+    CollapseOptions c;
+    c.min_angle = floor;
+    c.max_normal_change = o_.max_normal_change;
+    queue_ = {};
+    for (auto h : mesh_.halfedges())
+      if (!mesh_.status(mesh_.edge_handle(h)).deleted()) queue_halfedge(h);
+    std::size_t made = 0;
+    while (faces_ > o_.faces && !queue_.empty()) {
+      const Candidate top = queue_.top();
+      queue_.pop();
+      if (stale(top)) continue;
+      const Mesh::HalfedgeHandle h(top.h);
+      if (!collapse_keeps_topology(mesh_, h) || !checker.geometry_ok(h, c)) continue;
+      const auto from = mesh_.from_vertex_handle(h), to = mesh_.to_vertex_handle(h);
+      quadric_[to.idx()] += quadric_[from.idx()];
+      ++stamp_[to.idx()];
+      ++stamp_[from.idx()];
+      mesh_.collapse(h);
+      checker.note_vertex(to);
+      faces_ -= 2;
+      ++made;
+      queue_around(to);
+    }
+    return made;
+  }
+
+  Mesh& mesh_;
+  const ReduceOptions& o_;
+  std::vector<Quadric> quadric_;  // per vertex
+  std::vector<unsigned> stamp_;   // per vertex: collapses into (or of) it so far
+  std::size_t faces_ = 0;         // faces not deleted
+  std::priority_queue<Candidate, std::vector<Candidate>, std::greater<Candidate>> queue_;
+};
+
+}  // namespace
+
+ReduceResult reduce_to_faces(Mesh& mesh, const ReduceOptions& options) {
+  mesh.request_vertex_status();
+  mesh.request_edge_status();
+  mesh.request_halfedge_status();
+  mesh.request_face_status();
+  ReduceResult r;
+  if (mesh.n_faces() > options.faces) r = Reducer(mesh, options).run();
+  else r.faces = mesh.n_faces();
+  mesh.garbage_collection();
+  mesh.release_vertex_status();
+  mesh.release_edge_status();
+  mesh.release_halfedge_status();
+  mesh.release_face_status();
+  return r;
+}
+
+}  // namespace gdm
