@@ -25,6 +25,9 @@ struct ReduceOptions {
   double min_angle = 10.0;          // no new angle below this, degrees (or below the face's own
                                     // smallest angle, when lower): the floor of the first rounds,
                                     // halved then dropped when the target is not reached
+  double noise = 0.0;               // mm: quadric error below area x noise^2 (what image noise of this
+                                    // standard deviation explains) counts as none; such collapses go
+                                    // shortest edge first
   bool keep_floor = false;          // never lower the floor (the target may then be missed)
   double max_normal_change = 45.0;  // a new face turns at most this much from the old one, degrees
 };
