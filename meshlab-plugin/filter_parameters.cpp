@@ -53,6 +53,7 @@ std::vector<FilterParam> volume_tail() {
       option("lod_face_area"),
       option("lod_tolerance"),
       option("min_angle"),
+      option("face_budget"),
       option("allow_border"),
       param("more_options", ParamKind::text, "More options",
             "Other options of docs/options.md as name=value pairs, e.g. a2=3 global_refinements=0"),

@@ -48,6 +48,13 @@ std::string cavity_summary(const DeformResult& r) {
   return s.str();
 }
 
+std::string budget_summary(const DeformResult& r) {
+  if (r.face_budget == 0) return {};
+  return "face budget: " + std::to_string(r.face_budget) + " faces requested, " + std::to_string(r.faces) +
+         " obtained (" + std::to_string(r.budget_subdivisions) + " subdivision" +
+         (r.budget_subdivisions == 1 ? "" : "s") + ", " + std::to_string(r.budget_collapses) + " collapses)";
+}
+
 std::string gap_summary(const DeformResult& r) {
   if (r.gap_closed_voxels == 0 && r.gap_reachable_voxels == 0) return {};
   return "gap: " + std::to_string(r.gap_closed_voxels) +

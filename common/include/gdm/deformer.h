@@ -148,6 +148,10 @@ struct DeformResult {
 // bridged openings: 60 vertices". Empty when no gate was built.
 std::string gap_summary(const DeformResult& result);
 
+// What the face budget did, for logs: "face budget: 1500 faces requested,
+// 1498 obtained (1 subdivision, 2562 collapses)". Empty when it was off.
+std::string budget_summary(const DeformResult& result);
+
 // What the cavity fill did, for logs: "cavities: 2 enclosed regions of
 // background filled (1,234 voxels, 1234 mm^3; the largest around (12.5, 40,
 // 8) mm): the model is the object's outer surface". Empty when none.
