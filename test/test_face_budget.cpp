@@ -138,10 +138,11 @@ TEST(FaceBudget, c_shaped_tube_noisy) { check_budgets(c_tube(0.05)); }
 // level of detail at the same count (lod_face_area 20, about half the
 // default's faces): the budget's faces sit where the surface bends, so on the
 // branching and C-shaped tubes, clean and noisy, its mean distance is lower
-// (measured 0.093 against 0.130, 0.102 against 0.149, 0.054 against 0.060
-// voxel); on the smooth ellipsoid on 0.5 x 0.5 x 2 mm voxels the uniform mesh
-// is better and the budget is behind by at most 0.03 voxel (measured 0.087
-// against 0.069 noisy, 0.055 against 0.052 clean).
+// (measured: branching 10 % noise 0.093 against 0.130 voxel, clean 0.094
+// against 0.149, C tube 0.050 against 0.060); on the smooth ellipsoid on
+// 0.5 x 0.5 x 2 mm voxels the uniform mesh is better and the budget is behind
+// by at most 0.03 voxel (measured 0.088 against 0.069 noisy, 0.055 against
+// 0.052 clean).
 TEST(FaceBudget, accuracy_against_the_level_of_detail_at_equal_faces) {
   for (const Case& c : {ellipsoid(0.05), branching(0.10), c_tube(0.05), branching(0.0)}) {
     const Outcome plain = run(c, 0);
@@ -205,7 +206,8 @@ TEST(FaceBudget, reduction_meets_the_count_and_keeps_the_surface) {
   EXPECT_LE(mesh.n_faces(), 300u);
   EXPECT_GE(mesh.n_faces(), 290u);
   EXPECT_EQ(r.faces, mesh.n_faces());
-  // Every kept vertex is a vertex of the fine sphere: on the sphere.
-  for (auto v : mesh.vertices()) EXPECT_NEAR(to_eigen(mesh.point(v)).norm(), 10.0, 1e-9);
+  // Every vertex near the sphere (a merged vertex goes where the planes of
+  // the fine faces it stands for meet best: just outside).
+  for (auto v : mesh.vertices()) EXPECT_NEAR(to_eigen(mesh.point(v)).norm(), 10.0, 0.3);
   EXPECT_GE(smallest_angle_degrees(mesh), 5.0);
 }

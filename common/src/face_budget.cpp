@@ -6,6 +6,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Eigenvalues>
 
 #include "gdm/error_lod.h"
 
@@ -34,15 +35,38 @@ double quadric_error(const Quadric& q, const Vec3& p) {
   return h.dot(q * h);
 }
 
-// A candidate collapse: halfedge `h` (from -> to), with the stamps its
-// vertices had when the error was computed (a later collapse into either
-// makes the entry stale; a fresh one is queued then).
+// Where the merged vertex of edge ab goes: the point of least error, the one
+// nearest the edge's midpoint when several are (a flat or cylindrical
+// neighbourhood: the quadric's small eigenvalues are dropped), kept within
+// half the edge's length of the midpoint.
+Vec3 best_position(const Quadric& q, const Vec3& a, const Vec3& b) {
+  const Vec3 m = 0.5 * (a + b);
+  const Eigen::Matrix3d A = q.topLeftCorner<3, 3>();
+  const Vec3 g = A * m + q.topRightCorner<3, 1>();  // half the gradient at m
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(A);
+  const double largest = eig.eigenvalues().cwiseAbs().maxCoeff();
+  if (!(largest > 0.0)) return m;
+  Vec3 step = Vec3::Zero();
+  for (int i = 0; i < 3; ++i) {
+    const double l = eig.eigenvalues()[i];
+    if (l > 1e-3 * largest) step -= (eig.eigenvectors().col(i).dot(g) / l) * eig.eigenvectors().col(i);
+  }
+  const double limit = 0.5 * (b - a).norm();
+  if (step.norm() > limit) step *= limit / step.norm();
+  return m + step;
+}
+
+// A candidate collapse: halfedge `h` (from -> to; the kept vertex moves to
+// `target` when positions are chosen), with the stamps its vertices had when
+// the error was computed (a later collapse into either makes the entry
+// stale; a fresh one is queued then).
 struct Candidate {
   double error;
   double length;
   int h;
   int from, to;
   unsigned from_stamp, to_stamp;
+  Vec3 target;
   // Least error first, ties by halfedge index: a fixed order.
   bool operator>(const Candidate& o) const {
     if (error != o.error) return error > o.error;
@@ -88,18 +112,22 @@ class Reducer {
  private:
   void queue_halfedge(Mesh::HalfedgeHandle h) {
     const auto from = mesh_.from_vertex_handle(h), to = mesh_.to_vertex_handle(h);
+    const Quadric q = quadric_[from.idx()] + quadric_[to.idx()];
+    const Vec3 target = o_.move_vertices ? best_position(q, pos(mesh_, from), pos(mesh_, to)) : pos(mesh_, to);
     // What the image noise explains is no error: there the shortest edges go
     // first (faces stay even where the surface is flat within the noise).
     const double allowance = (area_[from.idx()] + area_[to.idx()]) * o_.noise * o_.noise;
-    const double error =
-        std::max(0.0, quadric_error(quadric_[from.idx()] + quadric_[to.idx()], pos(mesh_, to)) - allowance);
-    queue_.push({error, mesh_.calc_edge_length(h), h.idx(), from.idx(), to.idx(), stamp_[from.idx()], stamp_[to.idx()]});
+    const double error = std::max(0.0, quadric_error(q, target) - allowance);
+    queue_.push({error, mesh_.calc_edge_length(h), h.idx(), from.idx(), to.idx(), stamp_[from.idx()],
+                 stamp_[to.idx()], target});
   }
 
+  // Every edge at v: both halfedges, or (vertices moved to the best
+  // position, where the direction only names the kept vertex) one.
   void queue_around(Mesh::VertexHandle v) {
     for (auto h : mesh_.voh_range(v)) {
       queue_halfedge(h);
-      queue_halfedge(mesh_.opposite_halfedge_handle(h));
+      if (!o_.move_vertices) queue_halfedge(mesh_.opposite_halfedge_handle(h));
     }
   }
 
@@ -125,20 +153,23 @@ class Reducer {
     c.max_normal_change = o_.max_normal_change;
     queue_ = {};
     for (auto h : mesh_.halfedges())
-      if (!mesh_.status(mesh_.edge_handle(h)).deleted()) queue_halfedge(h);
+      if (!mesh_.status(mesh_.edge_handle(h)).deleted() && (!o_.move_vertices || h.idx() % 2 == 0)) queue_halfedge(h);
     std::size_t made = 0;
     while (faces_ > o_.faces && !queue_.empty()) {
       const Candidate top = queue_.top();
       queue_.pop();
       if (stale(top)) continue;
-      const Mesh::HalfedgeHandle h(top.h);
-      if (!collapse_keeps_topology(mesh_, h) || !checker.geometry_ok(h, c)) continue;
+      Mesh::HalfedgeHandle h(top.h);
+      if (o_.move_vertices && !collapse_keeps_topology(mesh_, h)) h = mesh_.opposite_halfedge_handle(h);
+      if (!collapse_keeps_topology(mesh_, h)) continue;
+      if (o_.move_vertices ? !checker.geometry_ok(h, c, top.target) : !checker.geometry_ok(h, c)) continue;
       const auto from = mesh_.from_vertex_handle(h), to = mesh_.to_vertex_handle(h);
       quadric_[to.idx()] += quadric_[from.idx()];
       area_[to.idx()] += area_[from.idx()];
       ++stamp_[to.idx()];
       ++stamp_[from.idx()];
       mesh_.collapse(h);
+      if (o_.move_vertices) mesh_.set_point(to, to_point(top.target));
       checker.note_vertex(to);
       faces_ -= 2;
       ++made;

@@ -28,6 +28,8 @@ struct ReduceOptions {
   double noise = 0.0;               // mm: quadric error below area x noise^2 (what image noise of this
                                     // standard deviation explains) counts as none; such collapses go
                                     // shortest edge first
+  bool move_vertices = true;        // the kept vertex moves to the point of least quadric error (else it
+                                    // stays where it was: a halfedge collapse)
   bool keep_floor = false;          // never lower the floor (the target may then be missed)
   double max_normal_change = 45.0;  // a new face turns at most this much from the old one, degrees
 };
