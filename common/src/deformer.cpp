@@ -627,7 +627,16 @@ void Deformer::refine_for_budget(int cycle, const FitOptions& fit, std::vector<V
          4 * mesh_.n_faces() <= o_.max_faces) {
     subdivide_all(mesh_, cycle);
     ++result.budget_subdivisions;
-    result.fit_moves += fit_to_threshold(mesh_, volume_, o_.threshold, fit, origin).moves;
+    // Each subdivision quarters the area the fit's 2-ring quadric sees, so its
+    // noise-adaptive smoothing grows four times (at most the catalogue's 5):
+    // the finer fit keeps to the surface the coarser one saw through the
+    // noise (measured, mean distance at 8,000 faces: noisy ellipsoid on
+    // 0.5 x 0.5 x 2 mm voxels 0.078 against 0.094 voxel with the plain fit,
+    // noisy sphere 0.021 against 0.026, noisy branching tube 0.043 against
+    // 0.054; no effect without noise).
+    FitOptions fine = fit;
+    fine.regularization = std::min(5.0, fit.regularization * std::pow(4.0, static_cast<double>(result.budget_subdivisions)));
+    result.fit_moves += fit_to_threshold(mesh_, volume_, o_.threshold, fine, origin).moves;
   }
 }
 
