@@ -132,23 +132,28 @@ TEST(FaceBudget, branching_tube_clean_and_noisy) {
 
 TEST(FaceBudget, c_shaped_tube_noisy) { check_budgets(c_tube(0.05)); }
 
-// At the face count the default run gives, the budget reduces little (it
-// subdivides, fits and reduces only when the model has fewer faces than
-// asked): as accurate as the default. With fewer faces, against the paper's
-// level of detail at the same count (lod_face_area 20, about half the
-// default's faces): the budget's faces sit where the surface bends, so on the
-// branching and C-shaped tubes, clean and noisy, its mean distance is lower
-// (measured: branching 10 % noise 0.093 against 0.130 voxel, clean 0.094
-// against 0.149, C tube 0.050 against 0.060); on the smooth ellipsoid on
-// 0.5 x 0.5 x 2 mm voxels the uniform mesh is better and the budget is behind
-// by at most 0.03 voxel (measured 0.088 against 0.069 noisy, 0.055 against
-// 0.052 clean).
+// At the face count the default run gives, the budget is more accurate than
+// the default: it subdivides the converged model, fits it with more smoothing
+// and reduces it where the surface is flattest (measured, mean distance over
+// vertices, centroids and edge midpoints: noisy ellipsoid on 0.5 x 0.5 x 2 mm
+// voxels 0.074 against 0.084 voxel, noisy branching tube 0.060 against 0.067,
+// noisy C tube 0.032 against 0.037, clean branching tube 0.047 against 0.055).
+// With fewer faces, against the paper's level of detail at the same count
+// (lod_face_area 20, about half the default's faces): on the branching and
+// C-shaped tubes, clean and noisy, the budget is more accurate (measured:
+// branching 10 % noise 0.078 against 0.130, clean 0.078 against 0.149, C tube
+// 0.047 against 0.060); on the smooth ellipsoid a uniform mesh is about as
+// good as any and the budget stays within 0.01 voxel of it (0.072 against
+// 0.069 noisy, 0.054 against 0.052 clean).
 TEST(FaceBudget, accuracy_against_the_level_of_detail_at_equal_faces) {
   for (const Case& c : {ellipsoid(0.05), branching(0.10), c_tube(0.05), branching(0.0)}) {
     const Outcome plain = run(c, 0);
     const Outcome same = run(c, plain.mesh.n_faces());
-    EXPECT_LE(same.distance.mean, plain.distance.mean + 0.002) << c.name;
-    EXPECT_LE(same.vertex_distance.mean, plain.vertex_distance.mean + 0.002) << c.name;
+    EXPECT_NEAR(static_cast<double>(same.mesh.n_faces()), static_cast<double>(plain.mesh.n_faces()),
+                0.05 * static_cast<double>(plain.mesh.n_faces()));
+    EXPECT_LT(same.distance.mean, plain.distance.mean) << c.name;
+    EXPECT_LT(same.vertex_distance.mean, plain.vertex_distance.mean) << c.name;
+    EXPECT_LT(same.distance.p95, plain.distance.p95) << c.name;
   }
   for (const Case& c : {ellipsoid(0.05), ellipsoid(0.0), branching(0.10), c_tube(0.05), branching(0.0)}) {
     const Outcome coarse = run(c, 0, 0, 20.0);
@@ -156,8 +161,8 @@ TEST(FaceBudget, accuracy_against_the_level_of_detail_at_equal_faces) {
     test::expect_valid_closed_surface(budget.mesh);
     EXPECT_NEAR(static_cast<double>(budget.mesh.n_faces()), static_cast<double>(coarse.mesh.n_faces()),
                 0.05 * static_cast<double>(coarse.mesh.n_faces()));
-    if (c.name.rfind("ellipsoid", 0) == 0) EXPECT_LE(budget.distance.mean, coarse.distance.mean + 0.03) << c.name;
-    else EXPECT_LT(budget.distance.mean, coarse.distance.mean) << c.name;
+    if (c.name.rfind("ellipsoid", 0) == 0) EXPECT_LE(budget.distance.mean, coarse.distance.mean + 0.01) << c.name;
+    else EXPECT_LT(budget.distance.mean, 0.9 * coarse.distance.mean) << c.name;
   }
 }
 

@@ -87,12 +87,13 @@ double lod_ring_extent(const DeformOptions& o, double voxel) { return 2.0 * lod_
 constexpr double kQualityMaxError = 0.1;
 
 // The face budget: the fitted model has at least this many times the budget's
-// faces before it is reduced (measured: 2 makes the branching tube more
-// accurate at the default run's face count, 0.063 against 0.067 voxel, but
-// the noisy ellipsoid on 0.5 x 0.5 x 2 mm voxels less, 0.106 against 0.084:
-// the finer fit follows the noise), and after the triangle-quality pass the count is brought back
-// to the budget when it drifted above this fraction over it.
-constexpr double kBudgetSourceFactor = 1.0;
+// faces before it is reduced: more faces to choose from, fitted with more
+// smoothing (refine_for_budget). Measured, mean distance at the default run's
+// own face count: noisy ellipsoid on 0.5 x 0.5 x 2 mm voxels 0.074 voxel
+// (default run 0.084), noisy branching tube 0.060 (0.067), noisy C tube 0.032
+// (0.037), clean branching tube 0.047 (0.055); with 1 (reduce what the
+// deformation gave, subdivide only below the budget) they were the default's.
+constexpr double kBudgetSourceFactor = 4.0;
 constexpr double kBudgetSlack = 0.02;
 
 }  // namespace
