@@ -198,3 +198,18 @@ def test_a_hollow_shell_gives_its_outer_surface():
     lined = gdm.extract_surface(volume, threshold=125, seed=seed, seed_radius=1.5, fill_cavities=False)
     assert lined.report["model"]["cavities"] == 0
     assert np.linalg.norm(np.asarray(lined.vertices) - c, axis=1).min() < inner + 1.0
+
+
+def test_face_budget():
+    """face_budget (the catalogue's keyword, the command's --faces): about
+    that many faces (within 5 %), a valid surface, the report says what was
+    asked and obtained; below 20 faces is refused, naming the option."""
+    volume, _ = sphere(40, radius=12.0)
+    r = gdm.extract_surface(volume, threshold=50, face_budget=400)
+    assert abs(len(r.faces) - 400) <= 20
+    mesh, model = r.report["mesh"], r.report["model"]
+    assert mesh["closed"] and mesh["genus"] == 0 and mesh["self_intersections"] == 0
+    assert model["face_budget"] == 400 and model["budget_faces"] == len(r.faces)
+    assert model["budget_collapses"] > 0 and r.report["parameters"]["face_budget"] == 400
+    with pytest.raises(gdm.InvalidOption, match="face_budget must be 0 \\(off\\) or in \\[20, 1e\\+09\\], got 10"):
+        gdm.extract_surface(volume, threshold=50, face_budget=10)
