@@ -52,7 +52,8 @@ std::string budget_summary(const DeformResult& r) {
   if (r.face_budget == 0) return {};
   return "face budget: " + std::to_string(r.face_budget) + " faces requested, " + std::to_string(r.faces) +
          " obtained (" + std::to_string(r.budget_subdivisions) + " subdivision" +
-         (r.budget_subdivisions == 1 ? "" : "s") + ", " + std::to_string(r.budget_collapses) + " collapses)";
+         (r.budget_subdivisions == 1 ? "" : "s") + ", " + std::to_string(r.budget_collapses) + " collapses" +
+         (r.budget_splits > 0 ? ", " + std::to_string(r.budget_splits) + " splits" : std::string()) + ")";
 }
 
 std::string gap_summary(const DeformResult& r) {
@@ -664,15 +665,52 @@ void Deformer::reduce_to_budget(const FitOptions& fit, DeformResult& result) {
 // After the triangle-quality pass (its splits add faces, its collapses remove
 // them): a count that drifted above the budget by more than kBudgetSlack is
 // collapsed back to it, keeping the quality bound (a new face stays above
-// min_angle, or above the smallest angle around when that is lower).
+// min_angle, or above the smallest angle around when that is lower); one that
+// drifted below is brought back by splitting the longest edges of the largest
+// faces at their midpoints (the new faces lie inside the old ones: the surface
+// and the guarantees stay) where no new angle falls below that bound.
 void Deformer::settle_budget(DeformResult& result) {
   if (o_.face_budget == 0) return;
-  if (static_cast<double>(mesh_.n_faces()) <= (1.0 + kBudgetSlack) * static_cast<double>(o_.face_budget)) return;
-  ReduceOptions r;
-  r.faces = o_.face_budget;
-  r.min_angle = o_.min_angle > 0.0 ? o_.min_angle : o_.lod_min_angle;
-  r.keep_floor = true;
-  result.budget_collapses += reduce_to_faces(mesh_, r).collapses;
+  const double budget = static_cast<double>(o_.face_budget);
+  const double bound = o_.min_angle > 0.0 ? o_.min_angle : o_.lod_min_angle;
+  if (static_cast<double>(mesh_.n_faces()) > (1.0 + kBudgetSlack) * budget) {
+    ReduceOptions r;
+    r.faces = o_.face_budget;
+    r.min_angle = bound;
+    r.keep_floor = true;
+    result.budget_collapses += reduce_to_faces(mesh_, r).collapses;
+    return;
+  }
+  for (int pass = 0; pass < 4 && static_cast<double>(mesh_.n_faces()) < (1.0 - kBudgetSlack) * budget; ++pass) {
+    const auto corner = [&](Mesh::HalfedgeHandle h) { return to_eigen(mesh_.point(mesh_.to_vertex_handle(h))); };
+    // Would splitting h at its midpoint keep the new angles of both faces at it?
+    const auto split_keeps_angles = [&](Mesh::HalfedgeHandle h) {
+      const Vec3 m = 0.5 * (corner(h) + corner(mesh_.opposite_halfedge_handle(h)));
+      for (const auto side : {h, mesh_.opposite_halfedge_handle(h)}) {
+        const Vec3 a = corner(mesh_.opposite_halfedge_handle(side)), b = corner(side);
+        const Vec3 apex = corner(mesh_.next_halfedge_handle(side));
+        const double floor = std::min(bound, triangle_min_angle(a, b, apex));
+        if (triangle_min_angle(a, m, apex) < floor || triangle_min_angle(m, b, apex) < floor) return false;
+      }
+      return true;
+    };
+    // The largest faces first (ties by index), as many as the budget lacks.
+    std::vector<std::pair<double, int>> by_area;
+    for (auto f : mesh_.faces()) {
+      auto it = mesh_.cfv_iter(f);
+      const Vec3 a = to_eigen(mesh_.point(*it)), b = to_eigen(mesh_.point(*++it)), c = to_eigen(mesh_.point(*++it));
+      by_area.emplace_back(-(b - a).cross(c - a).norm(), f.idx());
+    }
+    std::sort(by_area.begin(), by_area.end());
+    const auto wanted = static_cast<std::size_t>(std::ceil(0.5 * (budget - static_cast<double>(mesh_.n_faces()))));
+    std::vector<char> chosen(mesh_.n_faces(), 0);
+    for (std::size_t i = 0; i < by_area.size() && i < wanted; ++i) chosen[static_cast<std::size_t>(by_area[i].second)] = 1;
+    const std::size_t splits = split_longest_edges(mesh_, report_.cycle, [&](Mesh::FaceHandle f, Mesh::HalfedgeHandle h) {
+      return chosen[static_cast<std::size_t>(f.idx())] && split_keeps_angles(h);
+    });
+    result.budget_splits += splits;
+    if (splits == 0) break;
+  }
 }
 
 // Beyond the paper: a shrinking model's faces shrink with it (a sphere

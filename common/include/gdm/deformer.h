@@ -78,11 +78,11 @@ struct DeformOptions {
                                        // shrink-wrap's input; not owned; needs the fit and the
                                        // error-driven level of detail off
   std::size_t face_budget = 0;       // the final model's faces, about (within 5 %); 0 = off (the level of
-                                     // detail decides). The model is fitted at a level of detail with more
-                                     // faces (1-to-4 subdivisions and fits when it has too few), then edges
-                                     // are collapsed, least quadric error of the fitted surface first, and
-                                     // the vertices fitted again (face_budget.h); needs lod_tolerance 0 and
-                                     // no obstacle; fits even when subvoxel_fit is off
+                                     // detail decides). The converged model is subdivided 1-to-4 and fitted
+                                     // until it has 3.5 times N faces, then edges are collapsed, least
+                                     // quadric error of the fitted surface first, and the vertices fitted
+                                     // again (face_budget.h); needs lod_tolerance 0 and no obstacle; fits
+                                     // even when subvoxel_fit is off
   double min_angle = 10.0;           // triangle quality, degrees in [0, 30] (0 = off): the last geometric
                                      // step improves every face with a smaller angle by guarded flips,
                                      // cap splits, short-edge collapses and tangential relaxation on the
@@ -140,6 +140,7 @@ struct DeformResult {
   std::size_t faces = 0;                // faces of the final model
   std::size_t budget_subdivisions = 0;  // 1-to-4 subdivisions (each followed by a fit) to exceed the budget
   std::size_t budget_collapses = 0;     // edges collapsed to meet it
+  std::size_t budget_splits = 0;        // edges split to meet it again after the triangle-quality pass
   std::size_t float_refused = 0;  // vertices float_exact_output could not move safely (0 in practice)
 };
 

@@ -1,17 +1,19 @@
 // The face budget (beyond the paper, issue 16): the final model gets about N
 // faces, placed where the surface needs them. The deformation converges and
 // the fit puts the model on the threshold surface at a level of detail with
-// more faces than N (the Deformer subdivides 1-to-4 and fits again when the
-// paper's level of detail, section 4, gives too few); then edges are
-// collapsed, least error first, until N faces remain. The error of a collapse
-// is the quadric error (sum of squared distances to the planes of the fitted
-// faces the merged vertex stands for, area-weighted): faces stay small where
-// the fitted surface bends (edges, corners, thin parts) and grow where it is
-// flat. Every collapse is guarded like the error-driven level of detail's
-// (error_lod.h): link condition (closed, 2-manifold, genus kept), exact
-// intersection tests, no flipped face, a triangle-quality floor. The order is
-// fixed (error, then halfedge index), single-threaded: the result does not
-// depend on the thread count.
+// several times N faces (the Deformer subdivides 1-to-4, as section 6's
+// global resampling, and fits again when the paper's level of detail,
+// section 4, gives fewer); then edges are collapsed, least error first, until
+// N faces remain. The error of a collapse is the quadric error (sum of
+// squared distances to the planes of the fitted faces the merged vertex
+// stands for, area-weighted) at the merged vertex's position, the point where
+// those planes meet best: faces stay small where the fitted surface bends
+// (edges, corners, thin parts) and grow where it is flat. Every collapse is
+// guarded like the error-driven level of detail's (error_lod.h): link
+// condition (closed, 2-manifold, genus kept), exact intersection tests of
+// every moved face, no flipped face, a triangle-quality floor. The order is
+// fixed (error, edge length, halfedge index), single-threaded: the result
+// does not depend on the thread count.
 #pragma once
 
 #include <cstddef>
