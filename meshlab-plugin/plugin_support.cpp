@@ -21,6 +21,7 @@ void log_result(const gdm::PipelineResult& r, LogLines* log) {
                  std::to_string(d.global_refinements) + " global refinements, " + std::to_string(d.rejected_moves) +
                  " moves vetoed by the self-intersection guard)");
   if (d.gap_closed_voxels > 0) log->push_back(gdm::gap_summary(d));
+  if (d.face_budget > 0) log->push_back(gdm::budget_summary(d));
   if (d.cavities > 0) log->push_back(gdm::cavity_summary(d));
   if (d.handles > 0) log->push_back(gdm::handle_summary(d));
   if (d.quality_flips + d.quality_splits + d.quality_collapses + d.quality_moves > 0)

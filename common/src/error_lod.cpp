@@ -215,6 +215,62 @@ bool CollapseChecker::geometry_ok(Mesh::HalfedgeHandle h, const CollapseOptions&
   return true;
 }
 
+bool CollapseChecker::geometry_ok(Mesh::HalfedgeHandle h, const CollapseOptions& o, const Vec3& target) {
+  const Mesh& mesh = *mesh_;
+  const auto v0 = mesh.from_vertex_handle(h), v1 = mesh.to_vertex_handle(h);
+  const auto gone0 = mesh.face_handle(h), gone1 = mesh.face_handle(mesh.opposite_halfedge_handle(h));
+  const double min_cos = std::cos(o.max_normal_change * M_PI / 180.0);
+  // Face f after the collapse: v0 and v1 both become v1 at `target`.
+  const auto moved = [&](Mesh::FaceHandle f) {
+    Tri t;
+    int i = 0;
+    for (auto v : mesh.fv_range(f)) {
+      const bool merged = v == v0 || v == v1;
+      t.id[i] = merged ? v1.idx() : v.idx();
+      t.p[i] = merged ? target : pos(mesh, v);
+      ++i;
+    }
+    return t;
+  };
+  std::vector<Tri> created;
+  for (const auto v : {v0, v1})
+    for (auto f : mesh.vf_range(v)) {
+      if (f == gone0 || f == gone1) continue;
+      bool of_both = false;
+      for (auto w : mesh.fv_range(f)) of_both = of_both || (v == v1 && w == v0);
+      if (of_both) continue;  // seen from v0 already
+      const Tri before = face_tri(mesh, f);
+      const Tri after = moved(f);
+      const Vec3 nb = (before.p[1] - before.p[0]).cross(before.p[2] - before.p[0]);
+      const Vec3 na = (after.p[1] - after.p[0]).cross(after.p[2] - after.p[0]);
+      if (is_degenerate_triangle(after.p[0], after.p[1], after.p[2])) return false;
+      if (!(nb.norm() > 0.0) || na.normalized().dot(nb.normalized()) < min_cos) return false;
+      const double floor_angle = std::min(o.min_angle, smallest_angle(before.p[0], before.p[1], before.p[2]));
+      if (smallest_angle(after.p[0], after.p[1], after.p[2]) < floor_angle) return false;
+      created.push_back(after);
+    }
+  // The moved faces among themselves (the grid holds their old boxes), then against the rest.
+  for (std::size_t i = 0; i < created.size(); ++i)
+    for (std::size_t j = i + 1; j < created.size(); ++j)
+      if (triangles_intersect_improperly(created[i].p, created[i].id, created[j].p, created[j].id)) return false;
+  for (const Tri& t : created) {
+    const Vec3 lo = t.p[0].cwiseMin(t.p[1]).cwiseMin(t.p[2]), hi = t.p[0].cwiseMax(t.p[1]).cwiseMax(t.p[2]);
+    bool clear = true;
+    grid_.for_each_near(lo, hi, [&](int g) {
+      const Mesh::FaceHandle fg(g);
+      if (!clear || (mesh.has_face_status() && mesh.status(fg).deleted()) || fg == gone0 || fg == gone1) return;
+      const Tri other = moved(fg);
+      if (other.id == t.id) return;  // the triangle itself
+      const Vec3 olo = other.p[0].cwiseMin(other.p[1]).cwiseMin(other.p[2]);
+      const Vec3 ohi = other.p[0].cwiseMax(other.p[1]).cwiseMax(other.p[2]);
+      if ((olo.array() > hi.array()).any() || (ohi.array() < lo.array()).any()) return;
+      if (triangles_intersect_improperly(t.p, t.id, other.p, other.id)) clear = false;
+    });
+    if (!clear) return false;
+  }
+  return true;
+}
+
 std::size_t collapse_flat_edges(Mesh& mesh, const Volume* volume, double threshold, const CollapseOptions& o) {
   mesh.request_vertex_status();
   mesh.request_edge_status();

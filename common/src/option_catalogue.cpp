@@ -132,6 +132,7 @@ std::vector<Entry> make_catalogue() {
       special(real(row("lod_tolerance", fit, "voxels", "error-driven level of detail: at most this deviation of a face from the threshold surface; splits where the surface leaves the faces, collapses where flat"), 0.01, closed, 10.0, closed, F(o.lod_tolerance)), 0.0, "0 (off)"),
       real(row("lod_min_angle", fit, "degrees", "collapses of the error-driven level of detail keep every angle above this"), 0.0, closed, 60.0, open, F(o.lod_min_angle)),
       integer(row("lod_rounds", fit, "rounds", "collapse / split / fit rounds of the error-driven level of detail"), 1, 50, F(o.lod_rounds)),
+      alias(special(integer(row("face_budget", fit, "faces", "face budget: the final model gets about this many faces (within 5 %), fitted at a finer level of detail and reduced by guarded collapses, least error of the fitted surface first, then fitted again; at most max_faces; excludes lod_tolerance"), 20, 1e9, F(o.face_budget)), 0.0, "0 (off)"), "faces"),
       real(row("min_angle", fit, "degrees", "triangle quality: the last step improves every face with an angle below this (flips, cap splits, short-edge collapses, relaxation on the surface; best effort, the report gives the smallest angle); 0 = off"), 0.0, closed, 30.0, closed, F(o.min_angle)),
       alias(boolean(row("float_exact_output", guard, "", "end with every vertex on a float point, checked by the guard (float outputs stay free of self-intersections)"), F(o.float_exact_output)), "float-exact"),
   };

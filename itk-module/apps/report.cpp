@@ -67,6 +67,7 @@ std::string summary_text(const RunRecord& r) {
   part(r.model.quality_moves, "quality moves");
   part(r.model.float_refused, "vertices not float-exact");
   if (!finish.empty()) s << "  after convergence: " << finish << "\n";
+  if (r.model.face_budget > 0) s << "  " << gdm::budget_summary(r.model) << "\n";
   if (r.model.gap_closed_voxels > 0) s << "  " << gdm::gap_summary(r.model) << "\n";
   if (r.model.cavities > 0) s << "  " << gdm::cavity_summary(r.model) << "\n";
   if (r.model.handles > 0) s << "  " << gdm::handle_summary(r.model) << "\n";
@@ -151,6 +152,11 @@ std::string report_json(const RunRecord& r, const Options& options) {
       .add("quality_collapses", json_number(r.model.quality_collapses))
       .add("quality_moves", json_number(r.model.quality_moves))
       .add("faces_below_min_angle", json_number(r.model.faces_below_min_angle))
+      .add("face_budget", json_number(r.model.face_budget))
+      .add("budget_faces", json_number(r.model.faces))
+      .add("budget_subdivisions", json_number(r.model.budget_subdivisions))
+      .add("budget_collapses", json_number(r.model.budget_collapses))
+      .add("budget_splits", json_number(r.model.budget_splits))
       .add("float_refused", json_number(r.model.float_refused))
       .add("gap_closed_voxels", json_number(r.model.gap_closed_voxels))
       .add("gap_reachable_voxels", json_number(r.model.gap_reachable_voxels))

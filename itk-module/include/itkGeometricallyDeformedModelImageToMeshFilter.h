@@ -141,6 +141,12 @@ operator<<(std::ostream & os, const GeometricallyDeformedModelEnums::Polarity va
  *   geometric step: every face with a smaller angle is improved by guarded
  *   edge flips, cap splits, short-edge collapses and tangential relaxation on
  *   the model's surface (best effort; guarantees kept).
+ * - FaceBudget [0 = off, or in [20, 1e9] and at most MaximumNumberOfFaces]:
+ *   the final mesh gets about this many faces (within 5 %): the model is
+ *   fitted at a level of detail with more faces (1-to-4 subdivisions and fits
+ *   when it has fewer), reduced by guarded edge collapses in order of the
+ *   quadric error of the fitted surface and fitted again (guarantees kept);
+ *   excludes LevelOfDetailTolerance.
  * - FloatExactOutput [on]: end with every vertex on a float-representable
  *   point, each move checked by the self-intersection guard, so that an
  *   itk::Mesh<float> (or a float file format) keeps the no-self-intersection
@@ -155,8 +161,9 @@ operator<<(std::ostream & os, const GeometricallyDeformedModelEnums::Polarity va
  * After Update(), GetStopReason(), GetNumberOfCycles(),
  * GetNumberOfGlobalRefinementsPerformed(), GetNumberOfRejectedMoves(),
  * GetNumberOfFlips(), GetNumberOfBorderVertices(), GetNumberOfFitMoves(),
- * GetNumberOfLevelOfDetailSplits(), GetNumberOfLevelOfDetailCollapses() and
- * GetNumberOfFloatRefusedVertices() describe the run.
+ * GetNumberOfLevelOfDetailSplits(), GetNumberOfLevelOfDetailCollapses(),
+ * GetNumberOfBudgetCollapses() and GetNumberOfFloatRefusedVertices()
+ * describe the run.
  *
  * Progress is reported once per deformation cycle and ends at 1. During a
  * ProgressEvent, GetCurrentCycle(), GetCurrentStage(),
@@ -372,6 +379,12 @@ public:
   itkSetMacro(MinimumAngle, double);
   itkGetConstMacro(MinimumAngle, double);
 
+  /** Face budget: the final mesh gets about this many faces (within 5 %);
+   * 0 = off (the level of detail decides), else in [20, 1e9] and at most
+   * MaximumNumberOfFaces; not with LevelOfDetailTolerance. */
+  itkSetMacro(FaceBudget, SizeValueType);
+  itkGetConstMacro(FaceBudget, SizeValueType);
+
   /** End with every vertex on a float-representable point, each move checked
    * by the self-intersection guard (float meshes keep the guarantee). */
   itkSetMacro(FloatExactOutput, bool);
@@ -412,6 +425,8 @@ public:
   itkGetConstMacro(NumberOfLevelOfDetailCollapses, SizeValueType);
   /** Vertices FloatExactOutput could not move safely onto a float point (0 in practice). */
   itkGetConstMacro(NumberOfFloatRefusedVertices, SizeValueType);
+  /** Edges collapsed to meet the face budget (0 when it is off). */
+  itkGetConstMacro(NumberOfBudgetCollapses, SizeValueType);
   /** Free voxels the gap closed (beyond openings or channels narrower than
    * GapSize; 0 without a gate) and vertices of the caps over bridged openings. */
   itkGetConstMacro(NumberOfGapClosedVoxels, SizeValueType);
@@ -519,6 +534,7 @@ private:
   double        m_LevelOfDetailMinimumAngle;
   unsigned int  m_LevelOfDetailRounds;
   double        m_MinimumAngle;
+  SizeValueType m_FaceBudget;
   bool          m_FloatExactOutput;
   /** The core options not held in the members above (reached by SetOption). */
   gdm::DeformOptions m_CatalogueOptions;
@@ -536,6 +552,7 @@ private:
   SizeValueType m_NumberOfLevelOfDetailSplits{ 0 };
   SizeValueType m_NumberOfLevelOfDetailCollapses{ 0 };
   SizeValueType m_NumberOfFloatRefusedVertices{ 0 };
+  SizeValueType m_NumberOfBudgetCollapses{ 0 };
   SizeValueType m_NumberOfGapClosedVoxels{ 0 };
   SizeValueType m_NumberOfBridgeVertices{ 0 };
   SizeValueType m_NumberOfFilledCavities{ 0 };

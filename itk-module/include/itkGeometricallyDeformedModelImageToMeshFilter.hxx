@@ -71,6 +71,7 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::SetDeform
   m_LevelOfDetailMinimumAngle = o.lod_min_angle;
   m_LevelOfDetailRounds = static_cast<unsigned int>(o.lod_rounds);
   m_MinimumAngle = o.min_angle;
+  m_FaceBudget = static_cast<SizeValueType>(o.face_budget);
   m_FloatExactOutput = o.float_exact_output;
   if (o.threads > 0)
   {
@@ -159,6 +160,7 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::GetDeform
   o.lod_min_angle = m_LevelOfDetailMinimumAngle;
   o.lod_rounds = static_cast<int>(std::min<unsigned int>(m_LevelOfDetailRounds, 1000000u));
   o.min_angle = m_MinimumAngle;
+  o.face_budget = static_cast<std::size_t>(m_FaceBudget);
   o.float_exact_output = m_FloatExactOutput;
   return o;
 }
@@ -192,6 +194,7 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::GenerateD
   m_NumberOfLevelOfDetailSplits = 0;
   m_NumberOfLevelOfDetailCollapses = 0;
   m_NumberOfFloatRefusedVertices = 0;
+  m_NumberOfBudgetCollapses = 0;
   m_NumberOfGapClosedVoxels = 0;
   m_NumberOfBridgeVertices = 0;
   m_NumberOfFilledCavities = 0;
@@ -284,6 +287,7 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::GenerateD
     m_NumberOfLevelOfDetailSplits = static_cast<SizeValueType>(result.lod_splits);
     m_NumberOfLevelOfDetailCollapses = static_cast<SizeValueType>(result.lod_collapses);
     m_NumberOfFloatRefusedVertices = static_cast<SizeValueType>(result.float_refused);
+    m_NumberOfBudgetCollapses = static_cast<SizeValueType>(result.budget_collapses);
     m_NumberOfGapClosedVoxels = static_cast<SizeValueType>(result.gap_closed_voxels);
     m_NumberOfBridgeVertices = static_cast<SizeValueType>(result.bridge_vertices);
     m_NumberOfFilledCavities = static_cast<SizeValueType>(result.cavities);
@@ -366,6 +370,7 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::PrintSelf
   os << indent << "LevelOfDetailMinimumAngle: " << m_LevelOfDetailMinimumAngle << std::endl;
   os << indent << "LevelOfDetailRounds: " << m_LevelOfDetailRounds << std::endl;
   os << indent << "MinimumAngle: " << m_MinimumAngle << std::endl;
+  os << indent << "FaceBudget: " << m_FaceBudget << std::endl;
   os << indent << "FloatExactOutput: " << (m_FloatExactOutput ? "On" : "Off") << std::endl;
   os << indent << "SeedCenter: " << m_SeedCenter << std::endl;
   os << indent << "SeedRadius: " << m_SeedRadius << std::endl;
@@ -380,6 +385,7 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::PrintSelf
   os << indent << "NumberOfLevelOfDetailSplits: " << m_NumberOfLevelOfDetailSplits << std::endl;
   os << indent << "NumberOfLevelOfDetailCollapses: " << m_NumberOfLevelOfDetailCollapses << std::endl;
   os << indent << "NumberOfFloatRefusedVertices: " << m_NumberOfFloatRefusedVertices << std::endl;
+  os << indent << "NumberOfBudgetCollapses: " << m_NumberOfBudgetCollapses << std::endl;
   os << indent << "NumberOfGapClosedVoxels: " << m_NumberOfGapClosedVoxels << std::endl;
   os << indent << "NumberOfBridgeVertices: " << m_NumberOfBridgeVertices << std::endl;
   os << indent << "NumberOfFilledCavities: " << m_NumberOfFilledCavities << std::endl;

@@ -70,12 +70,14 @@ ExerciseBasicsAndSetGet()
   ITK_TEST_SET_GET_VALUE(d.lod_min_angle, filter->GetLevelOfDetailMinimumAngle());
   ITK_TEST_SET_GET_VALUE(static_cast<unsigned int>(d.lod_rounds), filter->GetLevelOfDetailRounds());
   ITK_TEST_SET_GET_VALUE(d.min_angle, filter->GetMinimumAngle());
+  ITK_TEST_SET_GET_VALUE(static_cast<itk::SizeValueType>(d.face_budget), filter->GetFaceBudget());
   ITK_TEST_SET_GET_VALUE(d.float_exact_output, filter->GetFloatExactOutput());
   // Before a run the results and the current cycle's figures are 0.
   ITK_TEST_EXPECT_EQUAL(filter->GetNumberOfFitMoves(), 0u);
   ITK_TEST_EXPECT_EQUAL(filter->GetNumberOfLevelOfDetailSplits(), 0u);
   ITK_TEST_EXPECT_EQUAL(filter->GetNumberOfLevelOfDetailCollapses(), 0u);
   ITK_TEST_EXPECT_EQUAL(filter->GetNumberOfFloatRefusedVertices(), 0u);
+  ITK_TEST_EXPECT_EQUAL(filter->GetNumberOfBudgetCollapses(), 0u);
   ITK_TEST_EXPECT_EQUAL(filter->GetCurrentCycle(), 0u);
   ITK_TEST_EXPECT_EQUAL(filter->GetCurrentNumberOfFaces(), 0u);
   ITK_TEST_EXPECT_EQUAL(filter->GetCurrentNumberOfMovingVertices(), 0u);
@@ -138,6 +140,7 @@ ExerciseBasicsAndSetGet()
   ITK_TEST_SET_GET_VALUE(12.0, (filter->SetLevelOfDetailMinimumAngle(12.0), filter->GetLevelOfDetailMinimumAngle()));
   ITK_TEST_SET_GET_VALUE(3u, (filter->SetLevelOfDetailRounds(3), filter->GetLevelOfDetailRounds()));
   ITK_TEST_SET_GET_VALUE(20.0, (filter->SetMinimumAngle(20.0), filter->GetMinimumAngle()));
+  ITK_TEST_SET_GET_VALUE(1500u, (filter->SetFaceBudget(1500), filter->GetFaceBudget()));
   ITK_TEST_SET_GET_VALUE(0.8, (filter->SetMaximumTopologyRatio(0.8), filter->GetMaximumTopologyRatio()));
   ITK_TEST_SET_GET_VALUE(1.25, (filter->SetRefinementTravel(1.25), filter->GetRefinementTravel()));
   ITK_TEST_SET_GET_VALUE(4.5, (filter->SetGapSize(4.5), filter->GetGapSize()));
@@ -168,7 +171,7 @@ ExerciseBasicsAndSetGet()
       o.convergence_window != 8 || o.flip_max_dihedral != 15.0 || o.max_faces != 5000 || o.threads != 2 ||
       o.subvoxel_fit || o.fit_passes != 6 || o.fit_max_distance != 0.75 || o.fit_smoothing != 1.5 || o.lod_tolerance != 0.1 ||
       o.lod_min_angle != 12.0 || o.lod_rounds != 3 || o.max_topology_ratio != 0.8 || o.refinement_travel != 1.25 ||
-      o.min_angle != 20.0 || o.float_exact_output)
+      o.min_angle != 20.0 || o.face_budget != 1500 || o.float_exact_output)
   {
     std::cerr << "GetDeformOptions does not follow the parameters" << std::endl;
     return EXIT_FAILURE;
@@ -183,11 +186,11 @@ ExerciseBasicsAndSetGet()
          "GradientStep", "LevelOfDetailFaceArea", "LevelOfDetailTopologyExtent", "NumberOfGlobalRefinements",
          "MaximumNumberOfCycles", "ConvergenceTolerance", "ConvergenceWindow", "PreventSelfIntersection",
          "ImproveTriangles", "FlipMaximumDihedralAngle", "MaximumNumberOfFaces", "SubvoxelFit", "NumberOfFitPasses",
-         "FitMaximumDistance", "FitSmoothing", "LevelOfDetailTolerance", "LevelOfDetailMinimumAngle", "LevelOfDetailRounds", "MinimumAngle",
+         "FitMaximumDistance", "FitSmoothing", "LevelOfDetailTolerance", "LevelOfDetailMinimumAngle", "LevelOfDetailRounds", "MinimumAngle", "FaceBudget",
          "MaximumTopologyRatio", "RefinementTravel", "GapSize", "NumberOfGapClosedVoxels", "FillCavities", "NumberOfFilledCavities", "FilledCavityVolume", "NumberOfCavitiesBehindNarrowOpenings", "NumberOfCappedHandles", "FloatExactOutput", "SeedCenter", "SeedRadius",
          "SeedSubdivisionLevel", "StopReason", "NumberOfCycles", "NumberOfGlobalRefinementsPerformed",
          "NumberOfRejectedMoves", "NumberOfFlips", "NumberOfBorderVertices", "NumberOfFitMoves",
-         "NumberOfLevelOfDetailSplits", "NumberOfLevelOfDetailCollapses", "NumberOfFloatRefusedVertices",
+         "NumberOfLevelOfDetailSplits", "NumberOfLevelOfDetailCollapses", "NumberOfFloatRefusedVertices", "NumberOfBudgetCollapses",
          "CurrentCycle", "CurrentStage", "CurrentNumberOfVertices", "CurrentNumberOfFaces",
          "CurrentNumberOfMovingVertices", "CurrentNumberOfActiveVertices", "CurrentNumberOfSplits",
          "CurrentMeanCost" })
@@ -473,6 +476,28 @@ TEST(itkGDMBasics, SameMeshAsThePipeline)
   }
   EXPECT_EQ(different, 0u) << "of " << direct.mesh.n_vertices() << " vertices";
   EXPECT_EQ(filter->GetNumberOfCycles(), static_cast<itk::SizeValueType>(direct.deform.cycles));
+}
+
+// FaceBudget reaches the core: the output has about that many faces (within
+// 5 %), the collapses are reported, and a budget above the face limit is refused.
+TEST(itkGDMBasics, FaceBudget)
+{
+  const auto image = MakeBallImage(28);
+  auto       filter = FilterType::New();
+  filter->SetInput(image);
+  filter->SetThreshold(110.0);
+  FilterType::PointType center;
+  center.Fill(13.0);
+  filter->SetSeedCenter(center);
+  filter->SetSeedRadius(2.5);
+  filter->SetFaceBudget(300);
+  ASSERT_NO_THROW(filter->Update());
+  const double faces = static_cast<double>(filter->GetOutput()->GetNumberOfCells());
+  EXPECT_NEAR(faces, 300.0, 15.0);
+  EXPECT_GT(filter->GetNumberOfBudgetCollapses(), 0u);
+  filter->SetMaximumNumberOfFaces(200);
+  const std::string text = gdmtest::ExceptionText([&] { filter->Update(); });
+  EXPECT_NE(text.find("face_budget 300 is above max_faces 200"), std::string::npos) << text;
 }
 
 // Every option of the catalogue is reachable by its name, also those without

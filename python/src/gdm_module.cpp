@@ -642,6 +642,11 @@ py::dict model_report(const gdm::DeformResult& r, double seconds) {
   d["quality_collapses"] = r.quality_collapses;
   d["quality_moves"] = r.quality_moves;
   d["faces_below_min_angle"] = r.faces_below_min_angle;
+  d["face_budget"] = r.face_budget;
+  d["budget_faces"] = r.faces;
+  d["budget_subdivisions"] = r.budget_subdivisions;
+  d["budget_collapses"] = r.budget_collapses;
+  d["budget_splits"] = r.budget_splits;
   d["float_refused"] = r.float_refused;
   d["gap_closed_voxels"] = r.gap_closed_voxels;
   d["gap_reachable_voxels"] = r.gap_reachable_voxels;

@@ -222,3 +222,18 @@ def test_a_torus_is_capped_across_its_hole():
     kept = gdm.extract_surface(volume, threshold=125, seed=seed, seed_radius=1.5, cap_handles=False)
     assert kept.report["model"]["handles"] == 0
     assert kept.report["contacts"]["regions"] > 0
+
+
+def test_face_budget():
+    """face_budget (the catalogue's keyword, the command's --faces): about
+    that many faces (within 5 %), a valid surface, the report says what was
+    asked and obtained; below 20 faces is refused, naming the option."""
+    volume, _ = sphere(40, radius=12.0)
+    r = gdm.extract_surface(volume, threshold=50, face_budget=400)
+    assert abs(len(r.faces) - 400) <= 20
+    mesh, model = r.report["mesh"], r.report["model"]
+    assert mesh["closed"] and mesh["genus"] == 0 and mesh["self_intersections"] == 0
+    assert model["face_budget"] == 400 and model["budget_faces"] == len(r.faces)
+    assert model["budget_collapses"] > 0 and r.report["parameters"]["face_budget"] == 400
+    with pytest.raises(gdm.InvalidOption, match="face_budget must be 0 \\(off\\) or in \\[20, 1e\\+09\\], got 10"):
+        gdm.extract_surface(volume, threshold=50, face_budget=10)

@@ -88,6 +88,12 @@ struct DeformOptions {
   const Obstacle* obstacle = nullptr;  // triangles no move or flip may touch (obstacle.h), e.g. a
                                        // shrink-wrap's input; not owned; needs the fit and the
                                        // error-driven level of detail off
+  std::size_t face_budget = 0;       // the final model's faces, about (within 5 %); 0 = off (the level of
+                                     // detail decides). The converged model is subdivided 1-to-4 and fitted
+                                     // until it has 3.5 times N faces, then edges are collapsed, least
+                                     // quadric error of the fitted surface first, and the vertices fitted
+                                     // again (face_budget.h); needs lod_tolerance 0 and no obstacle; fits
+                                     // even when subvoxel_fit is off
   double min_angle = 10.0;           // triangle quality, degrees in [0, 30] (0 = off): the last geometric
                                      // step improves every face with a smaller angle by guarded flips,
                                      // cap splits, short-edge collapses and tangential relaxation on the
@@ -150,6 +156,11 @@ struct DeformResult {
   std::size_t quality_collapses = 0;  // short edges collapsed by it
   std::size_t quality_moves = 0;      // vertex moves of its relaxation
   std::size_t faces_below_min_angle = 0;  // faces left with an angle below min_angle (0 when it is off)
+  std::size_t face_budget = 0;          // faces requested (DeformOptions::face_budget; 0 = off)
+  std::size_t faces = 0;                // faces of the final model
+  std::size_t budget_subdivisions = 0;  // 1-to-4 subdivisions (each followed by a fit) to exceed the budget
+  std::size_t budget_collapses = 0;     // edges collapsed to meet it
+  std::size_t budget_splits = 0;        // edges split to meet it again after the triangle-quality pass
   std::size_t float_refused = 0;  // vertices float_exact_output could not move safely (0 in practice)
 };
 
@@ -157,6 +168,10 @@ struct DeformResult {
 // channels narrower than the gap closed (12,345 reachable); caps over the
 // bridged openings: 60 vertices". Empty when no gate was built.
 std::string gap_summary(const DeformResult& result);
+
+// What the face budget did, for logs: "face budget: 1500 faces requested,
+// 1498 obtained (1 subdivision, 2562 collapses)". Empty when it was off.
+std::string budget_summary(const DeformResult& result);
 
 // What the cavity fill did, for logs: "cavities: 2 enclosed regions of
 // background filled (1,234 voxels, 1234 mm^3; the largest around (12.5, 40,

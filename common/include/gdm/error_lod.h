@@ -66,6 +66,9 @@ class CollapseChecker {
   // Would collapsing h leave the faces around its from-vertex non-degenerate,
   // unflipped, above the quality floor and free of improper intersections?
   bool geometry_ok(Mesh::HalfedgeHandle h, const CollapseOptions& options);
+  // The same for a collapse that also moves the kept (to-)vertex to
+  // `target`: every face around either vertex is checked.
+  bool geometry_ok(Mesh::HalfedgeHandle h, const CollapseOptions& options, const Vec3& target);
   // Registers the faces around v after a collapse into v.
   void note_vertex(Mesh::VertexHandle v);
 

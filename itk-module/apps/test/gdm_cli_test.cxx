@@ -692,6 +692,43 @@ TEST(Model, ErrorDrivenLevelOfDetail) {
   }
 }
 
+// The face budget (--faces N): the model has about N faces (within 5 %),
+// every guarantee holds, the summary and the report say what was asked and
+// obtained; an absurd budget is bad usage (exit 2) with a message.
+TEST(Model, FaceBudget) {
+  const fs::path dir = work_dir();
+  for (const int n : {600, 2500}) {
+    const std::string mesh = "b" + std::to_string(n) + ".ply", json = "b" + std::to_string(n) + ".json";
+    const GdmRun r = run_gdm(dir, {"--faces", std::to_string(n), "-o", mesh, "--report", json});
+    ASSERT_EQ(r.code, 0) << r.err;
+    const Mesh m = read_mesh(dir / mesh);
+    expect_valid_model(measure(m));
+    EXPECT_NEAR(static_cast<double>(m.faces.size()), n, 0.05 * n);
+    const std::string report = slurp(dir / json);
+    EXPECT_EQ(json_value(report, "face_budget"), n);
+    EXPECT_EQ(json_value(report, "budget_faces"), static_cast<double>(m.faces.size()));
+    EXPECT_GT(json_value(report, "budget_collapses"), 0.0);
+    EXPECT_NE(r.out.find("face budget: " + std::to_string(n) + " faces requested, " + std::to_string(m.faces.size()) +
+                         " obtained"),
+              std::string::npos)
+        << r.out;
+  }
+  // Bad values: exit 2, a message, no output.
+  const std::vector<std::pair<std::vector<std::string>, std::string>> bad = {
+      {{"--faces", "10"}, "--faces: must be 0 (off) or in [20, 1e+09], got 10"},
+      {{"--faces", "-5"}, "--faces: must be 0 (off) or in [20, 1e+09], got -5"},
+      {{"--faces", "many"}, "--faces"},
+      {{"--faces", "3000000"}, "face_budget 3000000 is above max_faces 2000000"},
+      {{"--faces", "500", "--lod-tolerance", "0.1"}, "face_budget and lod_tolerance both choose the number of faces"},
+  };
+  int i = 0;
+  for (const auto& [args, message] : bad) {
+    const fs::path bad_dir = dir / ("bad-" + std::to_string(i++));
+    fs::create_directories(bad_dir);
+    expect_failure(bad_dir, args, 2, message);
+  }
+}
+
 // A seed mesh file gives the same model as the same polyhedron built in.
 TEST(Seed, SeedMeshFile) {
   const fs::path dir = work_dir();

@@ -46,6 +46,7 @@ struct Settings {
   std::string commit = "unknown";
   std::vector<std::string> only;  // run only the cases whose id contains one of these (debugging)
   bool dump = false;               // write every surface as OFF into out/surfaces/
+  bool faces_sweep = false;        // only the face budget against the Slicer chain at equal faces (a table on stdout)
 };
 
 void write_off(const fs::path& file, const Surface& s) {
@@ -142,7 +143,8 @@ PeerResult repeat(const Settings& s, int runs, F once, std::vector<double>& time
   return last;
 }
 
-PeerResult run_gdm(const Case& c, const gdm::Volume& volume, const Method& m, int threads, double lod = 0.0) {
+PeerResult run_gdm(const Case& c, const gdm::Volume& volume, const Method& m, int threads, double lod = 0.0,
+                   std::size_t face_budget = 0) {
   gdm::DeformOptions o;
   o.threshold = c.threshold;
   o.polarity = c.object_brighter ? gdm::Polarity::object_brighter : gdm::Polarity::object_darker;
@@ -154,6 +156,7 @@ PeerResult run_gdm(const Case& c, const gdm::Volume& volume, const Method& m, in
   if (m.without_gap) o.stop_at_border = true;
   if (m.configure) m.configure(o);
   if (lod > 0.0) o.lod_face_area = lod;
+  o.face_budget = face_budget;
   gdm::Mesh mesh = seed_mesh(c, m.seed_level);
   const auto t0 = Clock::now();
   const gdm::DeformResult r = gdm::deform(mesh, volume, o);
@@ -474,6 +477,43 @@ struct Sweep {
 };
 
 }  // namespace
+
+// --faces-sweep (issue 16): on every phantom (clean and noisy; --only
+// filters), gdm with a face budget of 5, 10 and 20 % of flying edges' faces
+// and the Slicer chain decimated to the faces gdm gave, side by side: faces,
+// mean and p95 distance (voxels, vertices, centroids and edge midpoints) to
+// the exact surface. A table on stdout.
+int faces_sweep(const Settings& s) {
+  const int threads = thread_count(s);
+  set_vtk_threads(threads);
+  const Method gdm_method = methods().front();
+  std::printf("| phantom | budget | gdm faces | gdm mean / p95 | chain faces | chain mean / p95 | gdm s |\n|---|---|---|---|---|---|---|\n");
+  for (const Case& c : phantom_cases(false).cases) {
+    if (!s.only.empty() && std::none_of(s.only.begin(), s.only.end(),
+                                        [&](const std::string& o) { return c.id.find(o) != std::string::npos; }))
+      continue;
+    const gdm::Volume volume = to_volume(c.image);
+    const Truth truth = make_truth(c);
+    const std::size_t fe_faces = run_flying_edges(c.image, c.threshold).surface.faces.size();
+    for (const double fraction : {0.05, 0.10, 0.20}) {
+      const auto budget = static_cast<std::size_t>(std::lround(fraction * static_cast<double>(fe_faces)));
+      if (budget < 20) continue;
+      try {
+        const PeerResult g = run_gdm(c, volume, gdm_method, threads, 0.0, budget);
+        const ErrorStats ge = error_stats(sample_points(g.surface), truth.distance, c.voxel_size());
+        const PeerResult sl = run_slicer_chain(c.image, c.threshold, g.surface.faces.size());
+        const ErrorStats se = error_stats(sample_points(sl.surface), truth.distance, c.voxel_size());
+        std::printf("| %s | %.0f %% of %zu | %zu | %.3f / %.3f | %zu | %.3f / %.3f | %.2f |\n", c.name.c_str(),
+                    100.0 * fraction, fe_faces, g.surface.faces.size(), ge.mean, ge.p95, sl.surface.faces.size(),
+                    se.mean, se.p95, g.seconds);
+      } catch (const std::exception& e) {
+        std::printf("| %s | %.0f %% | failed: %s |\n", c.name.c_str(), 100.0 * fraction, e.what());
+      }
+      std::fflush(stdout);
+    }
+  }
+  return 0;
+}
 
 int run(const Settings& s) {
   const auto study_start = Clock::now();
@@ -818,6 +858,7 @@ int main(int argc, char** argv) {
       else if (a == "--budget") s.method_budget = std::stod(value());
       else if (a == "--only") s.only.push_back(value());
       else if (a == "--dump") s.dump = true;
+      else if (a == "--faces-sweep") s.faces_sweep = true;
       else {
         std::fprintf(stderr, "gdm_benchmark_study: unknown argument '%s'\nusage: gdm_benchmark_study --out DIR [--quick] "
                              "[--runs N] [--threads N] [--data DIR] [--commit TEXT] [--budget SECONDS] [--only CASE-ID-PART]... [--dump]\n", a.c_str());
@@ -828,6 +869,7 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
+  if (s.faces_sweep) return study::faces_sweep(s);
   if (s.out.empty()) {
     std::fprintf(stderr, "gdm_benchmark_study: --out DIR is required\n");
     return 2;

@@ -1,0 +1,51 @@
+// The face budget (beyond the paper, issue 16): the final model gets about N
+// faces, placed where the surface needs them. The deformation converges and
+// the fit puts the model on the threshold surface at a level of detail with
+// several times N faces (the Deformer subdivides 1-to-4, as section 6's
+// global resampling, and fits again when the paper's level of detail,
+// section 4, gives fewer); then edges are collapsed, least error first, until
+// N faces remain. The error of a collapse is the quadric error (sum of
+// squared distances to the planes of the fitted faces the merged vertex
+// stands for, area-weighted) at the merged vertex's position, the point where
+// those planes meet best: faces stay small where the fitted surface bends
+// (edges, corners, thin parts) and grow where it is flat. Every collapse is
+// guarded like the error-driven level of detail's (error_lod.h): link
+// condition (closed, 2-manifold, genus kept), exact intersection tests of
+// every moved face, no flipped face, a triangle-quality floor. The order is
+// fixed (error, edge length, halfedge index), single-threaded: the result
+// does not depend on the thread count.
+#pragma once
+
+#include <cstddef>
+
+#include "gdm/mesh.h"
+
+namespace gdm {
+
+struct ReduceOptions {
+  std::size_t faces = 0;            // target: collapse until at most this many faces remain
+  double min_angle = 10.0;          // no new angle below this, degrees (or below the face's own
+                                    // smallest angle, when lower): the floor of the first rounds,
+                                    // halved then dropped when the target is not reached
+  double noise = 0.0;               // mm: quadric error below area x noise^2 (what image noise of this
+                                    // standard deviation explains) counts as none; such collapses go
+                                    // shortest edge first
+  bool move_vertices = true;        // the kept vertex moves to the point of least quadric error (else it
+                                    // stays where it was: a halfedge collapse)
+  bool keep_floor = false;          // never lower the floor (the target may then be missed)
+  double max_normal_change = 45.0;  // a new face turns at most this much from the old one, degrees
+};
+
+struct ReduceResult {
+  std::size_t collapses = 0;  // edges collapsed
+  std::size_t faces = 0;      // faces left (deleted ones not counted)
+};
+
+// Collapses halfedges of `mesh` (a closed 2-manifold), least quadric error
+// first, until at most options.faces faces remain or no guarded collapse is
+// left. The quadrics are those of the mesh as given (the fitted surface): a
+// vertex carries the planes of its faces, a merged vertex the sum of both.
+// Garbage-collects the mesh; releases the status attributes it requested.
+ReduceResult reduce_to_faces(Mesh& mesh, const ReduceOptions& options);
+
+}  // namespace gdm

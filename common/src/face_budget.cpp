@@ -1,0 +1,208 @@
+#include "gdm/face_budget.h"
+
+#include <algorithm>
+#include <cmath>
+#include <queue>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Eigenvalues>
+
+#include "gdm/error_lod.h"
+
+namespace gdm {
+
+namespace {
+
+using Quadric = Eigen::Matrix4d;
+
+Vec3 pos(const Mesh& mesh, Mesh::VertexHandle v) { return to_eigen(mesh.point(v)); }
+
+// The plane of the triangle abc as a quadric weighted by its area: p^T Q p is
+// the area times the squared distance of p from the plane (Garland and
+// Heckbert's error, here of the fitted surface).
+Quadric face_quadric(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 n = (b - a).cross(c - a);
+  const double twice_area = n.norm();
+  if (!(twice_area > 0.0)) return Quadric::Zero();
+  const Vec3 u = n / twice_area;
+  const Eigen::Vector4d plane(u.x(), u.y(), u.z(), -u.dot(a));
+  return (0.5 * twice_area) * plane * plane.transpose();
+}
+
+double quadric_error(const Quadric& q, const Vec3& p) {
+  const Eigen::Vector4d h(p.x(), p.y(), p.z(), 1.0);
+  return h.dot(q * h);
+}
+
+// Where the merged vertex of edge ab goes: the point of least error, the one
+// nearest the edge's midpoint when several are (a flat or cylindrical
+// neighbourhood: the quadric's small eigenvalues are dropped), kept within
+// half the edge's length of the midpoint.
+Vec3 best_position(const Quadric& q, const Vec3& a, const Vec3& b) {
+  const Vec3 m = 0.5 * (a + b);
+  const Eigen::Matrix3d A = q.topLeftCorner<3, 3>();
+  const Vec3 g = A * m + q.topRightCorner<3, 1>();  // half the gradient at m
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(A);
+  const double largest = eig.eigenvalues().cwiseAbs().maxCoeff();
+  if (!(largest > 0.0)) return m;
+  Vec3 step = Vec3::Zero();
+  for (int i = 0; i < 3; ++i) {
+    const double l = eig.eigenvalues()[i];
+    if (l > 1e-3 * largest) step -= (eig.eigenvectors().col(i).dot(g) / l) * eig.eigenvectors().col(i);
+  }
+  const double limit = 0.5 * (b - a).norm();
+  if (step.norm() > limit) step *= limit / step.norm();
+  return m + step;
+}
+
+// A candidate collapse: halfedge `h` (from -> to; the kept vertex moves to
+// `target` when positions are chosen), with the stamps its vertices had when
+// the error was computed (a later collapse into either makes the entry
+// stale; a fresh one is queued then).
+struct Candidate {
+  double error;
+  double length;
+  int h;
+  int from, to;
+  unsigned from_stamp, to_stamp;
+  Vec3 target;
+  // Least error first, ties by halfedge index: a fixed order.
+  bool operator>(const Candidate& o) const {
+    if (error != o.error) return error > o.error;
+    return length != o.length ? length > o.length : h > o.h;
+  }
+};
+
+class Reducer {
+ public:
+  Reducer(Mesh& mesh, const ReduceOptions& o) : mesh_(mesh), o_(o) {
+    quadric_.assign(mesh.n_vertices(), Quadric::Zero());
+    area_.assign(mesh.n_vertices(), 0.0);
+    stamp_.assign(mesh.n_vertices(), 0u);
+    for (auto f : mesh.faces()) {
+      auto it = mesh.cfv_iter(f);
+      const auto a = *it, b = *++it, c = *++it;
+      const Quadric q = face_quadric(pos(mesh, a), pos(mesh, b), pos(mesh, c));
+      const double area = 0.5 * (pos(mesh, b) - pos(mesh, a)).cross(pos(mesh, c) - pos(mesh, a)).norm();
+      for (auto v : {a, b, c}) {
+        quadric_[v.idx()] += q;
+        area_[v.idx()] += area;
+      }
+    }
+    faces_ = mesh.n_faces();
+  }
+
+  ReduceResult run() {
+    ReduceResult r;
+    // Rounds: a collapse refused once may become possible after its
+    // neighbours changed; when a round ends short of the target, the quality
+    // floor is halved, then dropped (the guarantees stay).
+    const double floors[] = {o_.min_angle, o_.min_angle, 0.5 * o_.min_angle, 0.0};
+    for (const double floor : floors) {
+      if (faces_ <= o_.faces || (o_.keep_floor && floor < o_.min_angle)) break;
+      const std::size_t made = round(floor);
+      r.collapses += made;
+      if (made == 0 && floor == 0.0) break;
+    }
+    r.faces = faces_;
+    return r;
+  }
+
+ private:
+  void queue_halfedge(Mesh::HalfedgeHandle h) {
+    const auto from = mesh_.from_vertex_handle(h), to = mesh_.to_vertex_handle(h);
+    const Quadric q = quadric_[from.idx()] + quadric_[to.idx()];
+    const Vec3 target = o_.move_vertices ? best_position(q, pos(mesh_, from), pos(mesh_, to)) : pos(mesh_, to);
+    // What the image noise explains is no error: there the shortest edges go
+    // first (faces stay even where the surface is flat within the noise).
+    const double allowance = (area_[from.idx()] + area_[to.idx()]) * o_.noise * o_.noise;
+    const double error = std::max(0.0, quadric_error(q, target) - allowance);
+    queue_.push({error, mesh_.calc_edge_length(h), h.idx(), from.idx(), to.idx(), stamp_[from.idx()],
+                 stamp_[to.idx()], target});
+  }
+
+  // Every edge at v: both halfedges, or (vertices moved to the best
+  // position, where the direction only names the kept vertex) one.
+  void queue_around(Mesh::VertexHandle v) {
+    for (auto h : mesh_.voh_range(v)) {
+      queue_halfedge(h);
+      if (!o_.move_vertices) queue_halfedge(mesh_.opposite_halfedge_handle(h));
+    }
+  }
+
+  bool stale(const Candidate& c) const {
+    const Mesh::HalfedgeHandle h(c.h);
+    if (mesh_.status(mesh_.edge_handle(h)).deleted()) return true;
+    if (mesh_.from_vertex_handle(h).idx() != c.from || mesh_.to_vertex_handle(h).idx() != c.to) return true;
+    return stamp_[c.from] != c.from_stamp || stamp_[c.to] != c.to_stamp;
+  }
+
+  std::size_t round(double floor) {
+    double length = 0.0;
+    std::size_t edges = 0;
+    for (auto e : mesh_.edges())
+      if (!mesh_.status(e).deleted()) {
+        length += mesh_.calc_edge_length(e);
+        ++edges;
+      }
+    const double mean_edge = length / static_cast<double>(std::max<std::size_t>(1, edges));
+    CollapseChecker checker(mesh_, 2.0 * mean_edge);
+    CollapseOptions c;
+    c.min_angle = floor;
+    c.max_normal_change = o_.max_normal_change;
+    queue_ = {};
+    for (auto h : mesh_.halfedges())
+      if (!mesh_.status(mesh_.edge_handle(h)).deleted() && (!o_.move_vertices || h.idx() % 2 == 0)) queue_halfedge(h);
+    std::size_t made = 0;
+    while (faces_ > o_.faces && !queue_.empty()) {
+      const Candidate top = queue_.top();
+      queue_.pop();
+      if (stale(top)) continue;
+      Mesh::HalfedgeHandle h(top.h);
+      if (o_.move_vertices && !collapse_keeps_topology(mesh_, h)) h = mesh_.opposite_halfedge_handle(h);
+      if (!collapse_keeps_topology(mesh_, h)) continue;
+      if (o_.move_vertices ? !checker.geometry_ok(h, c, top.target) : !checker.geometry_ok(h, c)) continue;
+      const auto from = mesh_.from_vertex_handle(h), to = mesh_.to_vertex_handle(h);
+      quadric_[to.idx()] += quadric_[from.idx()];
+      area_[to.idx()] += area_[from.idx()];
+      ++stamp_[to.idx()];
+      ++stamp_[from.idx()];
+      mesh_.collapse(h);
+      if (o_.move_vertices) mesh_.set_point(to, to_point(top.target));
+      checker.note_vertex(to);
+      faces_ -= 2;
+      ++made;
+      queue_around(to);
+    }
+    return made;
+  }
+
+  Mesh& mesh_;
+  const ReduceOptions& o_;
+  std::vector<Quadric> quadric_;  // per vertex
+  std::vector<double> area_;      // per vertex: the area its quadric stands for, mm^2
+  std::vector<unsigned> stamp_;   // per vertex: collapses into (or of) it so far
+  std::size_t faces_ = 0;         // faces not deleted
+  std::priority_queue<Candidate, std::vector<Candidate>, std::greater<Candidate>> queue_;
+};
+
+}  // namespace
+
+ReduceResult reduce_to_faces(Mesh& mesh, const ReduceOptions& options) {
+  mesh.request_vertex_status();
+  mesh.request_edge_status();
+  mesh.request_halfedge_status();
+  mesh.request_face_status();
+  ReduceResult r;
+  if (mesh.n_faces() > options.faces) r = Reducer(mesh, options).run();
+  else r.faces = mesh.n_faces();
+  mesh.garbage_collection();
+  mesh.release_vertex_status();
+  mesh.release_edge_status();
+  mesh.release_halfedge_status();
+  mesh.release_face_status();
+  return r;
+}
+
+}  // namespace gdm
