@@ -196,6 +196,8 @@ TEST(Gap, channels_two_to_four_voxels_wide_are_followed_to_their_ends_at_the_def
     const DeformResult r = deform(mesh, c.volume, o);
     test::expect_valid_closed_surface(mesh);
     EXPECT_EQ(r.reason, StopReason::converged);
+    EXPECT_GT(r.channel_rounds, 0) << "noise " << noise;
+    EXPECT_GE(r.channel_faces, static_cast<std::size_t>(r.channel_rounds)) << "noise " << noise;
     const ph::DistanceStats truth = truth_to_model(c, mesh);
     const ph::DistanceStats model = ph::vertex_distances(mesh, c.sdf, c.volume.voxel_size());
     EXPECT_LE(truth.max, 1.0) << "noise " << noise << ": a channel is not followed to its end (truth to model mean "

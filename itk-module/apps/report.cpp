@@ -161,6 +161,8 @@ std::string report_json(const RunRecord& r, const Options& options) {
       .add("gap_closed_voxels", json_number(r.model.gap_closed_voxels))
       .add("gap_reachable_voxels", json_number(r.model.gap_reachable_voxels))
       .add("bridge_vertices", json_number(r.model.bridge_vertices))
+      .add("channel_rounds", json_number(r.model.channel_rounds))
+      .add("channel_faces", json_number(r.model.channel_faces))
       .add("cavities", json_number(r.model.cavities))
       .add("cavity_voxels", json_number(r.model.cavity_voxels))
       .add("cavity_volume_mm3", json_number(r.model.cavity_volume))

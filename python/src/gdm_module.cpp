@@ -651,6 +651,8 @@ py::dict model_report(const gdm::DeformResult& r, double seconds) {
   d["gap_closed_voxels"] = r.gap_closed_voxels;
   d["gap_reachable_voxels"] = r.gap_reachable_voxels;
   d["bridge_vertices"] = r.bridge_vertices;
+  d["channel_rounds"] = r.channel_rounds;
+  d["channel_faces"] = r.channel_faces;
   d["cavities"] = r.cavities;
   d["cavity_voxels"] = r.cavity_voxels;
   d["cavity_volume_mm3"] = r.cavity_volume;
