@@ -139,8 +139,7 @@ TEST(DeformPhantom, follows_a_c_shaped_tube_around_its_bend) {
 TEST(DeformPhantom, branching_shape_like_the_tooth_nerve) {
   ph::Grid grid;
   const Vec3 c = grid.center();
-  const auto sdf = ph::unite({ph::capsule(c + Vec3(0, 0, 18), c, 6.0), ph::capsule(c, c + Vec3(14, 0, -18), 4.5),
-                              ph::capsule(c, c + Vec3(-12, 8, -18), 4.5), ph::capsule(c, c + Vec3(-4, -14, -16), 4.0)});
+  const auto sdf = ph::branching(c);
   const Volume volume = ph::voxelize(grid, sdf, kBackground, kContrast);
   Mesh mesh = make_icosahedron(c + Vec3(0, 0, 10), 3.0);  // in the trunk
   deform(mesh, volume, default_options());

@@ -222,8 +222,7 @@ TEST(Gap, tube_and_branching_with_a_hole_in_the_wall_do_not_leak_with_a_gap_abov
   const Shape shapes[] = {
       {"bent tube", ph::bent_tube(c, 18.0, 6.0, 1.5 * M_PI), c + Vec3(18.0, 0.5, 0.0)},
       {"branching shape",
-       ph::unite({ph::capsule(c + Vec3(0, 0, 18), c, 6.0), ph::capsule(c, c + Vec3(14, 0, -18), 4.5),
-                  ph::capsule(c, c + Vec3(-12, 8, -18), 4.5), ph::capsule(c, c + Vec3(-4, -14, -16), 4.0)}),
+       ph::branching(c),
        c + Vec3(0, 0, 10)},
   };
   for (const Shape& shape : shapes) {

@@ -143,8 +143,7 @@ TEST(SubvoxelFit, regularization_removes_noise_without_shrinking) {
 TEST(SubvoxelFit, noisy_branching_tube) {
   ph::Grid grid;
   const Vec3 c = grid.center();
-  const auto sdf = ph::unite({ph::capsule(c + Vec3(0, 0, 18), c, 6.0), ph::capsule(c, c + Vec3(14, 0, -18), 4.5),
-                              ph::capsule(c, c + Vec3(-12, 8, -18), 4.5), ph::capsule(c, c + Vec3(-4, -14, -16), 4.0)});
+  const auto sdf = ph::branching(c);
   run_case({"branching", ph::with_gaussian_noise(ph::voxelize(grid, sdf, kBackground, kContrast), kNoise, 73), sdf,
             c + Vec3(0, 0, 10)});
 }

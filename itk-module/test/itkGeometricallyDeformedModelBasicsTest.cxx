@@ -435,19 +435,28 @@ TEST(itkGDMBasics, SeedMeshInput)
   EXPECT_LT(mean, 0.25);
 }
 
-// One pipeline: the filter gives the mesh gdm::extract_surface gives for the
-// same volume, seed and options (the filter's float mesh holds the model's
-// float-exact points, so they compare exactly).
-TEST(itkGDMBasics, SameMeshAsThePipeline)
+// A filter on a ball image (MakeBallImage) with T 110 and a seed of radius
+// 2.5 at (13, 13, 13).
+FilterType::Pointer
+MakeBallFilter(const ImageType * image)
 {
-  const auto image = MakeBallImage(28);
-  auto       filter = FilterType::New();
+  auto filter = FilterType::New();
   filter->SetInput(image);
   filter->SetThreshold(110.0);
   FilterType::PointType center;
   center.Fill(13.0);
   filter->SetSeedCenter(center);
   filter->SetSeedRadius(2.5);
+  return filter;
+}
+
+// One pipeline: the filter gives the mesh gdm::extract_surface gives for the
+// same volume, seed and options (the filter's float mesh holds the model's
+// float-exact points, so they compare exactly).
+TEST(itkGDMBasics, SameMeshAsThePipeline)
+{
+  const auto image = MakeBallImage(28);
+  auto       filter = MakeBallFilter(image);
   filter->SetLevelOfDetailFaceArea(6.0);
   filter->SetNumberOfWorkUnits(1);
   ASSERT_NO_THROW(filter->Update());
@@ -482,14 +491,7 @@ TEST(itkGDMBasics, SameMeshAsThePipeline)
 // 5 %), the collapses are reported, and a budget above the face limit is refused.
 TEST(itkGDMBasics, FaceBudget)
 {
-  const auto image = MakeBallImage(28);
-  auto       filter = FilterType::New();
-  filter->SetInput(image);
-  filter->SetThreshold(110.0);
-  FilterType::PointType center;
-  center.Fill(13.0);
-  filter->SetSeedCenter(center);
-  filter->SetSeedRadius(2.5);
+  auto filter = MakeBallFilter(MakeBallImage(28));
   filter->SetFaceBudget(300);
   ASSERT_NO_THROW(filter->Update());
   const double faces = static_cast<double>(filter->GetOutput()->GetNumberOfCells());

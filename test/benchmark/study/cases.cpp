@@ -79,8 +79,7 @@ std::vector<Shape> shapes(bool quick) {
                {}, Vec3(24, 24, 24)});
   s.push_back({"bent tube", "tube", g, ph::bent_tube(c, 18.0, 6.0, 1.5 * M_PI), {}, c + Vec3(18.0, 0.5, 0.0)});
   s.push_back({"branching shape", "branching", g,
-               ph::unite({ph::capsule(c + Vec3(0, 0, 18), c, 6.0), ph::capsule(c, c + Vec3(14, 0, -18), 4.5),
-                          ph::capsule(c, c + Vec3(-12, 8, -18), 4.5), ph::capsule(c, c + Vec3(-4, -14, -16), 4.0)}),
+               ph::branching(c),
                {}, c + Vec3(0, 0, 10)});
   return s;
 }
