@@ -33,8 +33,7 @@ Filter filterOf(int id)
 
 const gdm::OptionEntry<gdm::PipelineOptions> &catalogueOption(const std::string &name)
 {
-	for (const auto &o : gdm::pipeline_option_catalogue())
-		if (o.name == name) return o;
+	if (const auto *o = gdm_meshlab::catalogue_option(name)) return *o;
 	throw std::logic_error("no option " + name + " in the catalogue");
 }
 

@@ -119,13 +119,6 @@ std::vector<FilterParam> make(Filter filter) {
   return out;
 }
 
-const gdm::OptionEntry<gdm::PipelineOptions>* find_option(std::string name) {
-  std::replace(name.begin(), name.end(), '-', '_');
-  for (const auto& o : gdm::pipeline_option_catalogue())
-    if (o.name == name) return &o;
-  return nullptr;
-}
-
 double parse_value(const gdm::OptionInfo& o, const std::string& text) {
   if (o.type == gdm::OptionType::boolean) {
     if (text == "on" || text == "true" || text == "yes" || text == "1") return 1.0;
@@ -142,6 +135,13 @@ double parse_value(const gdm::OptionInfo& o, const std::string& text) {
 }
 
 }  // namespace
+
+const gdm::OptionEntry<gdm::PipelineOptions>* catalogue_option(std::string name) {
+  std::replace(name.begin(), name.end(), '-', '_');
+  for (const auto& o : gdm::pipeline_option_catalogue())
+    if (o.name == name) return &o;
+  return nullptr;
+}
 
 std::string dialog_help(const gdm::OptionInfo& o, const FilterParam& p) {
   // MeshLab 2020.09 shows about two lines of help beside a parameter (its
@@ -161,7 +161,7 @@ std::string dialog_help(const gdm::OptionInfo& o, const FilterParam& p) {
 
 std::string dialog_label(const FilterParam& p) {
   if (p.kind != ParamKind::catalogue) return p.label;
-  const auto* o = find_option(p.name);
+  const auto* o = catalogue_option(p.name);
   const std::string unit = p.unit.empty() ? (o != nullptr ? o->unit : std::string()) : p.unit;
   return (p.label.empty() ? p.name : p.label) + (unit.empty() ? "" : " (" + unit + ")");
 }
@@ -191,7 +191,7 @@ void apply_more_options(const std::string& text, gdm::PipelineOptions& options) 
     const auto eq = pair.find('=');
     if (eq == std::string::npos || eq == 0)
       throw gdm::InvalidOption("more_options", "more_options: '" + pair + "' is not name=value");
-    const auto* o = find_option(pair.substr(0, eq));
+    const auto* o = catalogue_option(pair.substr(0, eq));
     if (o == nullptr)
       throw gdm::InvalidOption("more_options", "more_options: no option '" + pair.substr(0, eq) +
                                                    "' (the names are those of docs/options.md)");
@@ -256,7 +256,7 @@ std::string script(Filter filter, const std::vector<std::pair<std::string, std::
           << "/>\n";
         break;
       case ParamKind::catalogue: {
-        const auto* o = find_option(p.name);
+        const auto* o = catalogue_option(p.name);
         const double v = p.own_default ? p.default_value : o->get(defaults);
         switch (o->type) {
           case gdm::OptionType::real:
@@ -308,7 +308,7 @@ std::string parameters_markdown() {
           value = gdm::format_number(100.0 * p.default_value) + "% of the diagonal";
           break;
         case ParamKind::catalogue: {
-          const auto* o = find_option(p.name);
+          const auto* o = catalogue_option(p.name);
           const double v = p.own_default ? p.default_value : o->get(defaults);
           switch (o->type) {
             case gdm::OptionType::real: type = "RichFloat"; break;

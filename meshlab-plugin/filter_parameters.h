@@ -44,6 +44,9 @@ const std::vector<FilterParam>& filter_parameters(Filter filter);
 // The script name of `filter` ("Geometrically Deformed Model from Volume", ...).
 std::string filter_name(Filter filter);
 
+// The catalogue's option called `name` (dashes accepted), or nullptr.
+const gdm::OptionEntry<gdm::PipelineOptions>* catalogue_option(std::string name);
+
 // Sets the catalogue options named in `text`: "name=value" pairs separated by
 // spaces, commas or semicolons; names as in the catalogue (dashes accepted),
 // values as the gdm command takes them (numbers, inf, on/off, choice names).

@@ -341,9 +341,7 @@ int dialogs() {
     for (const gdm_meshlab::FilterParam& p : gdm_meshlab::filter_parameters(f)) {
       std::string help = p.help;
       if (p.kind == gdm_meshlab::ParamKind::catalogue) {
-        const gdm::OptionInfo* o = nullptr;
-        for (const auto& entry : gdm::pipeline_option_catalogue())
-          if (entry.name == p.name) o = &entry;
+        const gdm::OptionInfo* o = gdm_meshlab::catalogue_option(p.name);
         if (o == nullptr) {
           std::printf("%s: %s is no option of the catalogue\n", gdm_meshlab::filter_name(f).c_str(), p.name.c_str());
           ++bad;
