@@ -58,7 +58,8 @@ std::vector<FilterParam> volume_tail() {
       option("lod_tolerance", "Error tolerance", "Fewest faces within this distance of the data"),
       option("min_angle", "Smallest angle", "Faces with a smaller angle are improved at the end; 0 = off"),
       option("face_budget", "Face budget", "About this many faces, the most accurate the model makes; 0 = off"),
-      option("allow_border", "Object may touch the border", "Else a model reaching the border is a leak"),
+      option("allow_border", "Object may touch the border",
+             "Off: allowed only where the scan cuts the object (a quarter of the border at most)"),
       param("more_options", ParamKind::text, "More options",
             "Other options of docs/options.md as name=value pairs, e.g. a2=3 global_refinements=0"),
   };

@@ -157,6 +157,9 @@ TEST(Pipeline, a_leak_to_the_border_is_a_failure_unless_allowed) {
   EXPECT_NE(r.failure.find("reached the volume border"), std::string::npos) << r.failure;
   EXPECT_THROW(require_success(r), ModelFailed);
   EXPECT_EQ(r.deform.reason, StopReason::border);
+  // The seed's region is the background, which covers the border: no object the scan cuts.
+  EXPECT_FALSE(r.choices.cut_by_scan);
+  EXPECT_GT(r.choices.border.fraction(), kCutByScanBorderFraction);
   // It stopped at the first contact, long before the leaked model would have converged.
   o.allow_border = true;
   const PipelineResult allowed = extract_surface(volume, o);

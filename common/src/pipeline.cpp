@@ -55,7 +55,9 @@ std::vector<OptionEntry<PipelineOptions>> make_pipeline_catalogue() {
       row("time_limit", "Guarantees and limits", "s", "stop the model after this many seconds and report it as failed (0 = no limit)",
           OptionType::real, 0.0, 1e9, [](const PipelineOptions& o) { return o.time_limit; },
           [](PipelineOptions& o, double v) { o.time_limit = v; }),
-      row("allow_border", "Output", "", "accept a model that reached the volume border (else it is a leak)",
+      row("allow_border", "Output", "",
+          "accept a model that reached the volume border; off: accepted only when the seed's object region meets "
+          "the border on at most a quarter of it (an object the scan cuts), else the model has leaked",
           OptionType::boolean, 0, 1, [](const PipelineOptions& o) { return o.allow_border ? 1.0 : 0.0; },
           [](PipelineOptions& o, double v) { o.allow_border = v != 0.0; }),
   };
@@ -258,8 +260,18 @@ PreparedModel prepare_model(const Volume& input, const PipelineOptions& o) {
   p.seed = choose_seed(input, *p.volume, o, p.deform, p.choices);
   p.allow_border = o.allow_border;
   p.time_limit = o.time_limit;
+  if (!o.allow_border && p.deform.mode == Mode::grow && p.choices.seed_source != "mesh") {
+    // An object the scan cuts is no leak: its region meets the border on a
+    // small part of it (border_contact.h), so the border is allowed up front.
+    const Vec3 c = p.volume->to_continuous_index(p.choices.seed_center);
+    const Index3 voxel{static_cast<int>(std::lround(c.x())), static_cast<int>(std::lround(c.y())),
+                       static_cast<int>(std::lround(c.z()))};
+    p.choices.border = measure_border_contact(*p.volume, voxel, p.deform.threshold, p.deform.polarity);
+    p.choices.cut_by_scan = p.choices.border.cut_by_scan();
+    p.allow_border = p.choices.cut_by_scan;
+  }
   // A growing leak stops at its first contact with the border (a shrinking model starts there).
-  p.deform.stop_at_border = !o.allow_border && p.deform.mode == Mode::grow;
+  p.deform.stop_at_border = !p.allow_border && p.deform.mode == Mode::grow;
   return p;
 }
 
@@ -284,6 +296,10 @@ std::vector<std::string> describe_choices(const PreparedModel& p) {
   } else {
     lines.push_back("seed: centre " + point_text(c.seed_center) + " mm, radius " + num(c.seed_radius) + " mm");
   }
+  if (c.cut_by_scan)
+    lines.push_back("the object is cut by the scan: its region meets the volume's border at " + c.border.sides_text() +
+                    ", " + num(100.0 * c.border.fraction()) +
+                    " % of the border; the model is closed there (as with allow_border)");
   return lines;
 }
 

@@ -106,6 +106,9 @@ void record_choices(const gdm::PipelineChoices& c, bool phantom_default, RunReco
     record.seed_region_voxels = c.auto_seed.region_voxels;
     record.seed_regions = c.auto_seed.regions;
   }
+  record.cut_by_scan = c.cut_by_scan;
+  record.border_fraction = c.border.fraction();
+  record.border_sides = c.border.sides_text();
 }
 
 void record_model(const gdm::PipelineResult& r, RunRecord& record) {
@@ -170,7 +173,7 @@ int run(const Options& options_in, RunRecord& record) {
 
   if (!result.failure.empty()) {
     std::string failure = result.failure;
-    if (result.deform.border_vertices > 0 && !options.pipeline.allow_border)  // said with the command's flags
+    if (result.deform.border_vertices > 0 && !prepared.allow_border)  // said with the command's flags
       failure = "the model reached the volume border (" + std::to_string(result.deform.border_vertices) +
                 " vertices within a voxel of it): it leaked out of the object. Check --polarity (is the object " +
                 (prepared.deform.polarity == gdm::Polarity::object_darker ? "darker" : "brighter") +

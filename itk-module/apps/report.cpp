@@ -136,6 +136,9 @@ std::string report_json(const RunRecord& r, const Options& options) {
         .add("region_voxels", json_number(r.seed_region_voxels))
         .add("regions", json_number(r.seed_regions));
   }
+  seed.add("cut_by_scan", json_bool(r.cut_by_scan))
+      .add("border_fraction", json_number(r.border_fraction))
+      .add("border_sides", json_string(r.border_sides));
 
   JsonObject model;
   model.add("stop_reason", r.model.cycles == 0 ? "null" : json_string(gdm::to_string(r.model.reason)))

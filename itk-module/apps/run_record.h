@@ -37,6 +37,9 @@ struct RunRecord {
   double seed_depth = 0.0;          // --seed auto: distance to the region's boundary, mm
   std::size_t seed_region_voxels = 0;
   std::size_t seed_regions = 0;
+  bool cut_by_scan = false;         // the seed's region is an object the scan cuts: the border was allowed
+  double border_fraction = 0.0;     // of the border's voxels, the share the seed's region covers
+  std::string border_sides;         // the sides it touches ("-z (1234 voxels)")
   gdm::DeformResult model;          // how the model ran (cycles, stop reason, counts)
   double model_seconds = 0.0;       // wall time of the model and its checks
   gdm::MeshReport mesh;             // the result's checks and measures

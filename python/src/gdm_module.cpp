@@ -771,6 +771,9 @@ py::dict extract_surface(py::handle volume, py::handle spacing, py::handle origi
     s["region_voxels"] = c.auto_seed.region_voxels;
     s["regions"] = c.auto_seed.regions;
   }
+  s["cut_by_scan"] = c.cut_by_scan;
+  s["border_fraction"] = c.border.fraction();
+  s["border_sides"] = c.border.sides_text();
   report["seed"] = s;
   report["model"] = model_report(result.deform, result.seconds);
   report["mesh"] = mesh_report(result.mesh, result.report);

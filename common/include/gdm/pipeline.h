@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "gdm/border_contact.h"
 #include "gdm/deformer.h"
 #include "gdm/errors.h"
 #include "gdm/mesh_checks.h"
@@ -84,6 +85,8 @@ struct PipelineChoices {
   std::size_t seed_faces = 0;      // faces of the seed mesh
   bool seed_reversed = false;      // a user's inward seed mesh was reversed
   AutoSeed auto_seed;              // seed_source == "auto"
+  BorderContact border;            // where the seed's region meets the border (grow mode without allow_border)
+  bool cut_by_scan = false;        // that region is an object the scan cuts: the border is allowed
 };
 
 // The preprocessed volume, the options with T set and the seed: everything

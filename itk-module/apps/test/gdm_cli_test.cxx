@@ -806,6 +806,29 @@ TEST(RealData, CtPhantomDicomSeries) {
   EXPECT_LT(b[4] - b[1], 512 * 0.4512);
 }
 
+// Two scans whose object the scan cuts (the EPI head at its top and bottom
+// slices, neghip's blobs at the x sides), at the defaults: no flag needed,
+// the summary and the report say the border was allowed and why.
+TEST(RealData, ObjectsTheScanCutsWorkAtTheDefaults) {
+  for (const std::string name : {"mri-epi/mha.mha", "neghip/neghip.mhd"}) {
+    const fs::path file = kShared + "/data/" + name;
+    if (!fs::exists(file)) GTEST_SKIP() << "the scan " << file << " is absent";
+    const fs::path dir = work_dir();
+    const GdmRun r = run_gdm(dir, {file.string(), "-o", "out.ply", "--report", "out.json"});
+    ASSERT_EQ(r.code, 0) << name << ": " << r.err;
+    EXPECT_NE(r.out.find("the object is cut by the scan"), std::string::npos) << r.out;
+    const std::string json = slurp(dir / "out.json");
+    EXPECT_NE(json.find("\"cut_by_scan\": true"), std::string::npos) << json;
+    EXPECT_LT(json_value(json, "border_fraction"), 0.25);
+    EXPECT_GT(json_value(json, "border_vertices"), 0.0);
+    const gdm::MeshReport m = measure(read_mesh(dir / "out.ply"));
+    EXPECT_TRUE(m.closed) << name;
+    EXPECT_TRUE(m.two_manifold) << name;
+    EXPECT_EQ(m.genus, 0) << name;
+    EXPECT_EQ(m.self_intersections, 0u) << name;
+  }
+}
+
 TEST(RealData, ToothPulp) {
   const std::string file = kShared + "/data/tooth/tooth.mhd";
   if (!fs::exists(file)) GTEST_SKIP() << "the tooth " << file << " is absent";
