@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
+#include <string>
 
 #include "gdm/cavities.h"
 #include "gdm/deformer.h"
@@ -325,6 +326,65 @@ INSTANTIATE_TEST_SUITE_P(TorusAndDoubleTorus, Handles, ::testing::Combine(::test
                            return std::string(std::get<0>(info.param) == 1 ? "torus" : "double_torus") + "_noise" +
                                   std::to_string(std::get<1>(info.param));
                          });
+
+// Issue 17: the handle growth is skipped when the seed's object, with what
+// is filled, has no handle (voxel_topology.h). The fill must be the same as
+// with the growth always run, voxel for voxel, on shapes with and without
+// handles, cavities and narrow openings at noise 3 and 10 %; and the skip
+// must happen on the shapes without a handle when the noise leaves them so.
+TEST(Cavities, skipping_the_growth_without_handles_fills_the_same) {
+  struct Case {
+    std::string name;
+    Volume volume;
+    Vec3 seed;
+  };
+  std::vector<Case> cases;
+  int skipped = 0, handle_free_shapes = 0;
+  for (const int noise_percent : {3, 10}) {
+    const double noise = 0.01 * noise_percent;
+    const unsigned seed = 170u + static_cast<unsigned>(noise_percent);
+    ph::Grid grid;
+    const Vec3 c = grid.center();
+    const std::string tag = " noise " + std::to_string(noise_percent) + " %";
+    cases.push_back({"branching" + tag,
+                     ph::with_gaussian_noise(ph::voxelize(grid, ph::branching(c + Vec3(0, 0, 6)), kLow, kHigh - kLow),
+                                             noise * (kHigh - kLow), seed),
+                     c + Vec3(0, 0, 16)});
+    cases.push_back({"cube with a corner missing" + tag,
+                     ph::with_gaussian_noise(ph::voxelize(grid, ph::difference(ph::box(Vec3(12, 12, 12), Vec3(52, 52, 52)),
+                                                                               ph::box(Vec3(32, 32, 32), Vec3(60, 60, 60))),
+                                                          kLow, kHigh - kLow),
+                                             noise * (kHigh - kLow), seed),
+                     Vec3(24, 24, 24)});
+    cases.push_back({"shell with a canal" + tag, shell(grid, 8.0, 14.0, 1.5, noise, seed), c + Vec3(-11.0, 0.0, 0.0)});
+    const Tori t = make_tori(1, noise, seed);
+    cases.push_back({"torus" + tag, t.volume, t.centres.front() + Vec3(0.0, -t.R, 0.0)});
+  }
+  for (const Case& k : cases) {
+    CavityOptions o;
+    o.threshold = kThreshold;
+    o.seed_points = {k.seed};
+    const CavityFill skipping = fill_cavities(k.volume, o);
+    o.skip_growth_without_handles = false;
+    const CavityFill growing = fill_cavities(k.volume, o);
+    ASSERT_TRUE(growing.grew) << k.name;
+    const bool torus = k.name.rfind("torus", 0) == 0;
+    if (!torus) ++handle_free_shapes;
+    if (!skipping.grew) ++skipped;
+    if (torus) EXPECT_TRUE(skipping.grew) << k.name << ": a torus has a handle, the growth must run";
+    std::printf("%s: growth %s, %zu voxels filled in %zu regions\n", k.name.c_str(), skipping.grew ? "ran" : "skipped",
+                skipping.voxels, skipping.cavities.size());
+    EXPECT_EQ(skipping.applied, growing.applied) << k.name;
+    EXPECT_EQ(skipping.voxels, growing.voxels) << k.name;
+    ASSERT_EQ(skipping.cavities.size(), growing.cavities.size()) << k.name;
+    for (std::size_t i = 0; i < growing.cavities.size(); ++i) {
+      EXPECT_EQ(skipping.cavities[i].kind, growing.cavities[i].kind) << k.name;
+      EXPECT_EQ(skipping.cavities[i].voxels, growing.cavities[i].voxels) << k.name;
+    }
+    if (growing.applied) EXPECT_TRUE(skipping.volume.values() == growing.volume.values()) << k.name << ": the filled volumes differ";
+  }
+  EXPECT_GT(skipped, 0) << "the growth ran on every one of the " << handle_free_shapes << " shapes without a handle";
+}
 
 // The marching-cubes surface of the tooth with the background not joined to
 // the volume's border by 6-connected background filled (computed here by its

@@ -1,6 +1,7 @@
 // Exact orientation predicates (floating-point filter + expansion arithmetic)
 // and the exact segment / triangle intersection tests built on them.
 #include "gdm/predicates.h"
+#include "gdm/triangle_separation.h"
 
 #include <algorithm>
 #include <cmath>
@@ -392,6 +393,7 @@ bool triangles_intersect_improperly(const std::array<Vec3, 3>& t1,
                                     const std::array<Vec3, 3>& t2,
                                     const std::array<int, 3>& ids2) {
   if (const int quick = separated_by_a_plane(t1, ids1, t2, ids2); quick >= 0) return quick != 0;
+  if (const int quick = separated_by_an_axis(t1, ids1, t2, ids2); quick >= 0) return quick != 0;
 
   // Degenerate triangles: a zero-area face has no well-defined side, so it
   // counts as intersecting anything it touches, including a neighbour it only

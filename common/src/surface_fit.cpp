@@ -80,10 +80,23 @@ Vec3 face_normal(const Mesh& mesh, Mesh::FaceHandle f) {
   return (b - a).cross(c - a);  // twice the area: area weighting
 }
 
+// Per-thread scratch of the per-vertex kernels below: they run for every
+// vertex of every pass, and their lists were allocated afresh each time.
+struct Scratch {
+  std::vector<int> vertices, faces;
+};
+Scratch& scratch() {
+  thread_local Scratch s;
+  return s;
+}
+
 // The unit normal over the faces within `rings` rings of v (section 7).
 Vec3 smoothed_normal(const Mesh& mesh, Mesh::VertexHandle v, int rings) {
+  Scratch& s = scratch();
+  vertices_within(mesh, v, rings - 1, s.vertices);
+  faces_around(mesh, s.vertices, s.faces);
   Vec3 n = Vec3::Zero();
-  for (int f : faces_around(mesh, vertices_within(mesh, v, rings - 1))) n += face_normal(mesh, Mesh::FaceHandle(f));
+  for (int f : s.faces) n += face_normal(mesh, Mesh::FaceHandle(f));
   const double len = n.norm();
   return len > 0.0 ? Vec3(n / len) : Vec3::Zero();
 }
@@ -94,7 +107,8 @@ Vec3 smoothed_normal(const Mesh& mesh, Mesh::VertexHandle v, int rings) {
 // order), so drawing a vertex toward it smooths noise without the shrinkage
 // of Laplacian smoothing. NaN when the ring is too small to fit.
 double height_above_quadric(const Mesh& mesh, Mesh::VertexHandle v, const Vec3& n) {
-  std::vector<int> ring = vertices_within(mesh, v, 2);
+  std::vector<int>& ring = scratch().vertices;
+  vertices_within(mesh, v, 2, ring);
   ring.erase(std::find(ring.begin(), ring.end(), v.idx()));
   if (ring.size() < 9) return std::numeric_limits<double>::quiet_NaN();
   const Vec3 p = pos(mesh, v), t1 = n.unitOrthogonal(), t2 = n.cross(t1);
@@ -172,8 +186,8 @@ FitResult fit_to_threshold(Mesh& mesh, const Volume& volume, double threshold, c
       normal[i] = n;
       if (n.isZero()) return;
       const Vec3 p = pos(mesh, v);
-      std::vector<Sample> samples;
-      samples.reserve(1 + 2 * mesh.valence(v));
+      thread_local std::vector<Sample> samples;
+      samples.clear();
       samples.push_back({p, 1.0});
       for (auto f : mesh.vf_range(v)) {
         Vec3 c = Vec3::Zero();
@@ -263,8 +277,16 @@ FitResult fit_to_threshold(Mesh& mesh, const Volume& volume, double threshold, c
     //    accepted move registers the faces' new boxes, so the grid covers
     //    the current faces without a margin for the travel: a small margin
     //    keeps the candidate lists short.
-    if (o.prevent_self_intersection)
-      guard = std::make_unique<IntersectionGuard>(mesh, 0.05 * voxel, 1e-6 * voxel * voxel);
+    //    One guard for all passes, its grid refreshed between them: only
+    //    the faces a move touched are registered again (a rebuild every
+    //    pass was a tenth of the fit, issue 17); it offers the exact tests
+    //    every face a fresh guard would, so each yes/no is the same.
+    if (o.prevent_self_intersection) {
+      if (guard)
+        guard->prepare_moves();
+      else
+        guard = std::make_unique<IntersectionGuard>(mesh, 0.05 * voxel, 1e-6 * voxel * voxel);
+    }
     std::fill(moved.begin(), moved.end(), 0);
     for (auto v : mesh.vertices()) {
       if (!has[v.idx()] || !active[v.idx()]) continue;

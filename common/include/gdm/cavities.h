@@ -55,6 +55,9 @@ struct CavityOptions {
                                      // than a ball of diameter W are filled when they are wider inside;
                                      // 0 = three voxels; at most two voxels = any 6-connected path reaches
   bool cap_handles = true;           // leave a membrane across each handle's hole at its narrowest place
+  bool skip_growth_without_handles = true;  // with cap_handles, skip the growth when the object's region
+                                     // (with what is filled) has no handle (voxel_topology.h): the same
+                                     // fill for a fraction of the time; false = always grow (tests)
   double membrane = 0.0;             // mm: how far each membrane is thickened on either side (within
                                      // the hole); 0 = 3.5 voxels
   std::vector<Vec3> seed_points;     // mm: the object the model grows in is the 6-connected object
@@ -99,6 +102,8 @@ struct CavityFill {
                                  // largest first
   std::size_t voxels = 0;      // all filled voxels
   double opening = 0.0;        // the ball diameter used for reach, mm (cavity_opening_width)
+  bool grew = false;           // the handle growth ran (cap_handles, and the region had a handle or
+                               // skip_growth_without_handles was off)
 };
 
 // Finds the background the outside does not reach, and the membranes that

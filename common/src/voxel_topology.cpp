@@ -1,0 +1,140 @@
+#include "gdm/voxel_topology.h"
+
+#include <array>
+#include <cstddef>
+
+namespace gdm {
+
+namespace {
+
+// Eight times the share of the cubical complex that one lattice point owns,
+// by the 2 x 2 x 2 voxels around it (bit dx + 2 dy + 4 dz for the voxel on
+// the +x side when dx = 1, and so on): the point itself when any voxel is
+// set (1), each of its six edges when one of the four voxels along it is
+// (-1/2, an edge has two ends), each of its twelve faces when one of the two
+// voxels beside it is (+1/4, a face has four corners), each voxel set (-1/8).
+std::array<int, 256> window_table() {
+  std::array<int, 256> table{};
+  const auto bit = [](int dx, int dy, int dz) { return 1 << (dx + 2 * dy + 4 * dz); };
+  for (int config = 0; config < 256; ++config) {
+    const auto set = [&](int dx, int dy, int dz) { return (config & bit(dx, dy, dz)) != 0; };
+    int eight = config ? 8 : 0;
+    for (int side = 0; side < 2; ++side) {  // the edges: along x (y, z) on the `side` half
+      bool x = false, y = false, z = false;
+      for (int a = 0; a < 2; ++a)
+        for (int b = 0; b < 2; ++b) {
+          x = x || set(side, a, b);
+          y = y || set(a, side, b);
+          z = z || set(a, b, side);
+        }
+      eight -= 4 * (int(x) + int(y) + int(z));
+    }
+    for (int a = 0; a < 2; ++a)  // the faces: normal z in quadrant (a, b) of the xy plane, and so on
+      for (int b = 0; b < 2; ++b) {
+        const bool normal_z = set(a, b, 0) || set(a, b, 1);
+        const bool normal_y = set(a, 0, b) || set(a, 1, b);
+        const bool normal_x = set(0, a, b) || set(1, a, b);
+        eight += 2 * (int(normal_x) + int(normal_y) + int(normal_z));
+      }
+    eight -= __builtin_popcount(static_cast<unsigned>(config));
+    table[static_cast<std::size_t>(config)] = eight;
+  }
+  return table;
+}
+
+std::size_t index(const Index3& n, int i, int j, int k) {
+  return static_cast<std::size_t>(i) +
+         static_cast<std::size_t>(n[0]) * (static_cast<std::size_t>(j) + static_cast<std::size_t>(n[1]) * static_cast<std::size_t>(k));
+}
+
+// Floods from the voxels on `stack` through the voxels for which `member`
+// holds, 26- or 6-connected, marking `seen`.
+template <typename Member>
+void flood(const Index3& n, bool connect26, std::vector<char>& seen, std::vector<std::size_t>& stack, Member&& member) {
+  const std::size_t nx = static_cast<std::size_t>(n[0]), ny = static_cast<std::size_t>(n[1]);
+  while (!stack.empty()) {
+    const std::size_t c = stack.back();
+    stack.pop_back();
+    const int i = static_cast<int>(c % nx), j = static_cast<int>((c / nx) % ny), k = static_cast<int>(c / (nx * ny));
+    for (int dz = -1; dz <= 1; ++dz)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int l1 = (dx != 0) + (dy != 0) + (dz != 0);
+          if (l1 == 0 || (!connect26 && l1 > 1)) continue;
+          const int u = i + dx, v = j + dy, w = k + dz;
+          if (u < 0 || v < 0 || w < 0 || u >= n[0] || v >= n[1] || w >= n[2]) continue;
+          const std::size_t m = index(n, u, v, w);
+          if (seen[m] || !member(m)) continue;
+          seen[m] = 1;
+          stack.push_back(m);
+        }
+  }
+}
+
+}  // namespace
+
+std::int64_t euler_characteristic(const std::vector<char>& set, const Index3& n) {
+  static const std::array<int, 256> table = window_table();
+  const std::vector<char> empty(static_cast<std::size_t>(n[0]), 0);
+  // Row (j, k) of the grid, or an empty row outside it.
+  const auto row = [&](int j, int k) {
+    return (j < 0 || k < 0 || j >= n[1] || k >= n[2]) ? empty.data() : set.data() + index(n, 0, j, k);
+  };
+  std::int64_t eight = 0;
+  for (int k = 0; k <= n[2]; ++k)
+    for (int j = 0; j <= n[1]; ++j) {
+      // The window's four rows: bit 2 dy + 4 dz names row (j - 1 + dy, k - 1 + dz).
+      const char* rows[4] = {row(j - 1, k - 1), row(j, k - 1), row(j - 1, k), row(j, k)};
+      if (rows[0] == empty.data() && rows[1] == empty.data() && rows[2] == empty.data() && rows[3] == empty.data()) continue;
+      for (int i = 0; i <= n[0]; ++i) {
+        int config = 0;
+        for (int r = 0; r < 4; ++r) {
+          if (i > 0 && rows[r][i - 1]) config |= 1 << (2 * r);
+          if (i < n[0] && rows[r][i]) config |= 1 << (2 * r + 1);
+        }
+        eight += table[static_cast<std::size_t>(config)];
+      }
+    }
+  return eight / 8;
+}
+
+VoxelTopology voxel_topology(const std::vector<char>& set, const Index3& n) {
+  VoxelTopology t;
+  t.euler = euler_characteristic(set, n);
+  const std::size_t count = set.size();
+  std::vector<char> seen(count, 0);
+  std::vector<std::size_t> stack;
+  for (std::size_t c = 0; c < count; ++c) {
+    if (!set[c] || seen[c]) continue;
+    ++t.pieces;
+    seen[c] = 1;
+    stack.assign(1, c);
+    flood(n, true, seen, stack, [&](std::size_t m) { return set[m] != 0; });
+  }
+  // The complement reached from the border, then each pocket left.
+  const auto free = [&](std::size_t m) { return set[m] == 0; };
+  for (int k = 0; k < n[2]; ++k)
+    for (int j = 0; j < n[1]; ++j)
+      for (int i = 0; i < n[0]; ++i) {
+        const bool border = i == 0 || j == 0 || k == 0 || i == n[0] - 1 || j == n[1] - 1 || k == n[2] - 1;
+        if (!border) {
+          i = n[0] - 2;  // jump to the row's last voxel
+          continue;
+        }
+        const std::size_t c = index(n, i, j, k);
+        if (set[c] || seen[c]) continue;
+        seen[c] = 1;
+        stack.push_back(c);
+      }
+  flood(n, false, seen, stack, free);
+  for (std::size_t c = 0; c < count; ++c) {
+    if (set[c] || seen[c]) continue;
+    ++t.cavities;
+    seen[c] = 1;
+    stack.assign(1, c);
+    flood(n, false, seen, stack, free);
+  }
+  return t;
+}
+
+}  // namespace gdm
