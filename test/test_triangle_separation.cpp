@@ -66,5 +66,31 @@ TEST(TriangleSeparation, never_clears_a_pair_the_exact_test_finds_improper) {
   EXPECT_GT(cleared_coplanar, proper_coplanar / 2) << "the filter should decide most coplanar pairs that do not meet";
 }
 
+// Tiny triangles far from the origin: their corners' differences round by
+// an ulp of the coordinates, which can exceed the filter's margin; the
+// filter must leave them to the exact code rather than clear a contact.
+TEST(TriangleSeparation, tiny_triangles_far_from_the_origin_are_left_to_the_exact_code) {
+  std::mt19937 random(1718);
+  std::uniform_int_distribution<int> grid(-4, 4);
+  for (const double size : {1e-3, 1e-6, 1e-9}) {
+    int cleared = 0;
+    for (int trial = 0; trial < 4000; ++trial) {
+      const auto point = [&]() {
+        return Vec3(812.5 + size * grid(random), -433.0 + size * grid(random), 650.25 + size * (trial % 2) * grid(random));
+      };
+      Tri t1{point(), point(), point()}, t2{point(), point(), point()};
+      const Ids i1{0, 1, 2}, i2{3, 4, 5};
+      if (is_degenerate_triangle(t1[0], t1[1], t1[2]) || is_degenerate_triangle(t2[0], t2[1], t2[2])) continue;
+      const int filter = separated_by_an_axis(t1, i1, t2, i2);
+      if (filter == 0) {
+        ++cleared;
+        ASSERT_FALSE(improper_exactly(t1, i1, t2, i2)) << "size " << size << ", trial " << trial;
+      }
+    }
+    // Below 1e-4 of the coordinates' size nothing is cleared at all.
+    if (size < 1e-4 * 812.5) EXPECT_EQ(cleared, 0) << "size " << size;
+  }
+}
+
 }  // namespace
 }  // namespace gdm

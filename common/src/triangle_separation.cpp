@@ -29,6 +29,13 @@ int separated_by_an_axis(const std::array<Vec3, 3>& t1, const std::array<int, 3>
     scale = std::max({scale, a[i].cwiseAbs().maxCoeff(), b[i].cwiseAbs().maxCoeff()});
   }
   if (!(scale > 0.0) || !std::isfinite(scale)) return -1;
+  // The differences above round by up to an ulp of the coordinates, not of
+  // the triangles: far from the origin, tiny triangles are left to the exact
+  // code (below 1e-4 of the coordinates' size the rounding could reach the
+  // margin; above it, it stays 10x below).
+  double magnitude = 0.0;
+  for (int i = 0; i < 3; ++i) magnitude = std::max({magnitude, t1[i].cwiseAbs().maxCoeff(), t2[i].cwiseAbs().maxCoeff()});
+  if (!(scale > 1e-4 * magnitude)) return -1;
   const Vec3 n1 = (a[1] - a[0]).cross(a[2] - a[0]), n2 = (b[1] - b[0]).cross(b[2] - b[0]);
   if (!(n1.norm() > 1e-6 * scale * scale) || !(n2.norm() > 1e-6 * scale * scale)) return -1;
   // Whether the plane normal to `axis` (a vector taken as exact: only the
