@@ -206,6 +206,63 @@ TEST(Gap, channels_two_to_four_voxels_wide_are_followed_to_their_ends_at_the_def
   }
 }
 
+// A chamber (sphere of radius 9 voxels) with a sheet 5 voxels thick beyond
+// its wall, reached through a slit 2.5 voxels thick (the mouth, too narrow
+// for faces of the level of detail); slit and sheet have rounded edges.
+// With refine_channels the model follows the sheet to its end, and the faces
+// it makes inside follow the sheet's thickness (channel_width.h), not the
+// fine size the slit asked for.
+ph::Sdf rounded_slab(const Vec3& lo, const Vec3& hi, double thickness) {
+  const double r = 0.5 * thickness;
+  const Vec3 mid_z(0, 0, 0.5 * (lo.z() + hi.z()));
+  const ph::Sdf core = ph::box(Vec3(lo.x() + r, lo.y() + r, mid_z.z()), Vec3(hi.x() - r, hi.y() - r, mid_z.z()));
+  return [core, r](const Vec3& p) { return core(p) - r; };
+}
+
+TEST(Gap, a_sheet_behind_a_narrow_mouth_is_followed_with_faces_of_its_thickness) {
+  for (const double noise : {0.03, 0.08}) {
+    Channels c;
+    c.grid.dims = {72, 72, 48};
+    const Vec3 o = c.grid.center();
+    const double chamber = 9.0, length = 22.0, slit = 2.5, thickness = 5.0;
+    c.sdf = ph::unite({ph::sphere(o, chamber),
+                       rounded_slab(o + Vec3(0, -8, -0.5 * slit), o + Vec3(chamber + 6.0, 8, 0.5 * slit), slit),
+                       rounded_slab(o + Vec3(chamber + 4.0, -12, -0.5 * thickness), o + Vec3(chamber + length, 12, 0.5 * thickness),
+                                    thickness)});
+    c.volume = ph::with_gaussian_noise(ph::voxelize(c.grid, c.sdf, kLow, kHigh - kLow), noise * (kHigh - kLow), 31u);
+    Mesh mesh = make_geodesic_sphere(o, 3.0, 1);
+    DeformOptions opt;
+    opt.threshold = kThreshold;
+    opt.stop_at_border = true;
+    opt.refine_channels = true;
+    const DeformResult r = deform(mesh, c.volume, opt);
+    test::expect_valid_closed_surface(mesh);
+    EXPECT_EQ(r.reason, StopReason::converged) << "noise " << noise;
+    EXPECT_GT(r.channel_rounds, 0) << "noise " << noise;
+    const ph::DistanceStats truth = truth_to_model(c, mesh);
+    EXPECT_LE(truth.max, 1.0) << "noise " << noise << ": the sheet is not followed to its end (mean " << truth.mean << ")";
+    // Faces well inside the sheet (beyond the chamber and its mouth).
+    std::vector<double> areas;
+    for (auto f : mesh.faces()) {
+      Vec3 middle = Vec3::Zero();
+      for (auto v : mesh.fv_range(f)) middle += to_eigen(mesh.point(v)) / 3.0;
+      if (middle.x() - o.x() < chamber + 8.0) continue;
+      auto it = mesh.cfv_iter(f);
+      const Vec3 a = to_eigen(mesh.point(*it)), b = to_eigen(mesh.point(*++it)), d = to_eigen(mesh.point(*++it));
+      areas.push_back(0.5 * (b - a).cross(d - a).norm());
+    }
+    ASSERT_FALSE(areas.empty()) << "noise " << noise << ": no face in the sheet";
+    std::sort(areas.begin(), areas.end());
+    const double median = areas[areas.size() / 2];
+    std::printf("sheet, noise %.2f: %zu faces (%zu in the sheet, median area %.2f voxel^2), truth to model mean %.3f max %.3f, %d rounds\n",
+                noise, mesh.n_faces(), areas.size(), median, truth.mean, truth.max, r.channel_rounds);
+    // The finest local size is 0.5 voxel^2; a sheet 5 voxels thick takes
+    // faces of about 2.7 (edge half its thickness). Measured: 1.9 and 2.1;
+    // with the slit's size inherited inside (before), 1.3 and 1.05.
+    EXPECT_GE(median, 1.6) << "noise " << noise << ": the sheet is lined with the mouth's fine faces";
+  }
+}
+
 // The benchmark study's "hole in the wall" cases: a dark cavity (a bent
 // tube, a branching shape) in a bright wall 4 voxels thick with a hole of
 // radius 2 voxels. With refine_channels the hole is a channel the model

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "gdm/cavities.h"
+#include "gdm/channel_width.h"
 #include "gdm/error_lod.h"
 #include "gdm/errors.h"
 #include "gdm/face_budget.h"
@@ -234,9 +235,12 @@ class Deformer {
   void finish(int cycle, DeformResult& result);
   bool held_by_gate(Mesh::VertexHandle v) const;
   std::size_t coarsen_shrunk_faces();
-  bool object_ahead(Mesh::FaceHandle f) const;
+  bool object_ahead(Mesh::FaceHandle f, double* room_ahead = nullptr) const;
   bool at_wall(Mesh::VertexHandle v) const;
   bool in_the_open(const Vec3& p) const;
+  double width_area(Mesh::VertexHandle v) const;
+  double face_area_for_room(const Vec3& p, const Vec3& normal) const;
+  ChannelWidthOptions width_options() const;
   std::size_t refine_where_blocked(int cycle);
   std::size_t relax_bridges();
   void improve_quality(DeformResult& result);
@@ -270,6 +274,8 @@ class Deformer {
   std::vector<double> local_area_;    // faces around the vertex are split above this area, mm^2
                                       // (the level of detail, or finer where refine_where_blocked asked)
   int local_rounds_ = 0;              // rounds of refine_where_blocked so far
+  std::vector<Vec3> round_start_;     // where each vertex was when the last round of refine_where_blocked asked
+  int idle_rounds_ = 0;               // rounds in a row after which no vertex moved a voxel
   std::vector<Vec3> face_normal_;     // unnormalised, per face, for the cycle
   int last_split_cycle_ = 0;
   std::size_t flips_ = 0;
@@ -331,6 +337,9 @@ void Deformer::grow_per_vertex_state() {
     // Out of the channel (free room half an edge of the level of detail away
     // on every axis), the faces grow back to the level of detail.
     if (local_area_[i] < coarse && in_the_open(pm)) local_area_[i] = coarse;
+    // Inside, the faces follow the width of the room (channel_width.h): a
+    // sheet or a wide room behind a narrow mouth is not lined with the mouth's.
+    else if (local_area_[i] < coarse) local_area_[i] = std::max(local_area_[i], width_area(m));
     anchor_[i] = to_eigen(mesh_.point(Mesh::VertexHandle(static_cast<int>(i))));
     stage_start_[i] = anchor_[i];
     last_change_[i] = report_.cycle;
@@ -536,7 +545,7 @@ double Deformer::face_normal_area(Mesh::FaceHandle f) const {
 // object's boundary see the blocked region ahead everywhere; faces that see
 // free room over most of their area are not too large for what lies ahead
 // (held by noise or by the model's own smoothness, not by their size).
-bool Deformer::object_ahead(Mesh::FaceHandle f) const {
+bool Deformer::object_ahead(Mesh::FaceHandle f, double* room_ahead) const {
   auto it = mesh_.cfv_iter(f);
   const Vec3 a = to_eigen(mesh_.point(*it)), b = to_eigen(mesh_.point(*++it)), c = to_eigen(mesh_.point(*++it));
   const Vec3 cross = (b - a).cross(c - a);
@@ -557,8 +566,11 @@ bool Deformer::object_ahead(Mesh::FaceHandle f) const {
       ++points;
       const Vec3 q = p + 1.5 * ahead;
       if (is_free(p + ahead) && is_free(p + 2.0 * ahead) && is_free(q + u) && is_free(q - u) && is_free(q + w) &&
-          is_free(q - w))
+          is_free(q - w)) {
         ++free;
+        // The width of the room it sees (channel_width.h), the widest over the face.
+        if (room_ahead) *room_ahead = std::max(*room_ahead, narrowest_chord(cost_.image, q, width_options()));
+      }
     }
   return free > 0 && 2 * free <= points;
 }
@@ -574,6 +586,44 @@ bool Deformer::in_the_open(const Vec3& p) const {
       if (cost_.image.is_blocked(q)) return false;
     }
   return true;
+}
+
+// The face area that follows the width of the room a new vertex is in or
+// looks into (channel_width.h), between the finest local size and the level
+// of detail's.
+double Deformer::width_area(Mesh::VertexHandle v) const {
+  Vec3 normal = Vec3::Zero();
+  for (auto f : mesh_.vf_range(v)) {
+    auto it = mesh_.cfv_iter(f);
+    const Vec3 a = to_eigen(mesh_.point(*it)), b = to_eigen(mesh_.point(*++it)), c = to_eigen(mesh_.point(*++it));
+    normal += (b - a).cross(c - a);
+  }
+  // Only a vertex that looks into free room ahead (the model's front in a
+  // channel or a sheet): one made against a wall, at a mouth's rim say,
+  // keeps the faces the mouth asked for, or the mouth is never entered.
+  const Vec3 p = to_eigen(mesh_.point(v));
+  if (!(normal.norm() > 0.0) ||
+      cost_.image.is_blocked(p + ((o_.mode == Mode::grow ? 1.0 : -1.0) * voxel_ / normal.norm()) * normal))
+    return 0.0;
+  return face_area_for_room(p, normal);
+}
+
+// Widths are measured up to the one whose faces are the level of detail's.
+ChannelWidthOptions Deformer::width_options() const {
+  ChannelWidthOptions w;
+  w.voxel = voxel_;
+  w.cap = lod_edge_length(o_, voxel_) / w.edge_per_width;
+  return w;
+}
+
+// The same for a point p of the model with (unnormalised) outward normal.
+double Deformer::face_area_for_room(const Vec3& p, const Vec3& normal) const {
+  const double coarse = o_.lod_face_area * voxel_ * voxel_;
+  if (!(normal.norm() > 0.0)) return coarse;
+  const ChannelWidthOptions w = width_options();
+  const Vec3 ahead = (o_.mode == Mode::grow ? 1.0 : -1.0) * normal.normalized();
+  const double finest = std::min(0.5, o_.lod_face_area) * voxel_ * voxel_;
+  return area_for_width(room_width(cost_.image, p, ahead, w), w, finest, coarse);
 }
 
 // A vertex that stands against a wall: the blocked region starts within a
@@ -603,10 +653,32 @@ std::size_t Deformer::refine_where_blocked(int cycle) {
   const double finest = std::min(0.5, o_.lod_face_area) * voxel_ * voxel_;
   std::vector<int> asking;
   // Room ahead that the model itself fills (two fronts that met) is no channel.
+  // Refinement stops where it makes no progress: after two rounds in a row
+  // after which no vertex moved more than a voxel (from where the round found
+  // it, or where it was made), the model is as far in as local faces take it.
+  if (local_rounds_ > 0) {
+    bool progress = false;
+    for (auto v : mesh_.vertices()) {
+      const std::size_t i = static_cast<std::size_t>(v.idx());
+      const Vec3& from = i < round_start_.size() ? round_start_[i] : stage_start_[i];
+      progress = progress || (to_eigen(mesh_.point(v)) - from).norm() > voxel_;
+    }
+    idle_rounds_ = progress ? 0 : idle_rounds_ + 1;
+    if (idle_rounds_ >= 2) return 0;
+  }
+  round_start_.resize(mesh_.n_vertices());
+  for (auto v : mesh_.vertices()) round_start_[static_cast<std::size_t>(v.idx())] = to_eigen(mesh_.point(v));
   const std::vector<char> met = contact_faces(mesh_, 2.5 * voxel_);
+  std::vector<double> floor_area(mesh_.n_faces(), finest);
   for (auto f : mesh_.faces()) {
     const double area = 0.5 * face_normal_area(f);
-    if (!(area > 2.0 * finest) || met[static_cast<std::size_t>(f.idx())] || !object_ahead(f)) continue;
+    double room = 0.0;
+    if (!(area > 2.0 * finest) || met[static_cast<std::size_t>(f.idx())] || !object_ahead(f, &room)) continue;
+    // Refinement stops where the faces are as small as the room ahead asks
+    // (channel_width.h): still blocked there, a finer face makes no progress.
+    const ChannelWidthOptions w = width_options();
+    floor_area[static_cast<std::size_t>(f.idx())] = area_for_width(room, w, finest, o_.lod_face_area * voxel_ * voxel_);
+    if (!(area > floor_area[static_cast<std::size_t>(f.idx())])) continue;
     // The face spans the mouth of a channel: its corners stand on the wall
     // around it, its middle sees into the channel.
     int walled = 0;
@@ -619,7 +691,7 @@ std::size_t Deformer::refine_where_blocked(int cycle) {
   if (!asking.empty()) std::fill(active_.begin(), active_.end(), 0);
   for (int i : asking) {
     const Mesh::FaceHandle f(i);
-    const double target = std::max(finest, 0.25 * 0.5 * face_normal_area(f));
+    const double target = std::max(floor_area[static_cast<std::size_t>(i)], 0.25 * 0.5 * face_normal_area(f));
     for (auto v : mesh_.fv_range(f)) {
       local_area_[v.idx()] = std::min(local_area_[v.idx()], target);
       activate_around(v);

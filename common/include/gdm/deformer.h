@@ -56,10 +56,10 @@ struct DeformOptions {
                                      // two fronts meeting across its tube; reported as a handle
   bool refine_channels = false;      // once the last stage converged, refine locally where faces are too
                                      // large to enter a channel the image shows (so the level of detail
-                                     // sets face sizes, the gap where the model goes); off by default: on
-                                     // the study's CT head and MRI skin it leads the model into thin sheets
-                                     // of the object (skull bone, scalp; not noise) lined with fine faces:
-                                     // faces x3.2 and x1.5, time x15 and x4 (README); on for canals (the tooth)
+                                     // sets face sizes, the gap where the model goes; inside, faces follow
+                                     // the room's width, channel_width.h); off by default: on the study's
+                                     // CT head it leads the model into thin sheets of the object (skull
+                                     // bone; not noise): faces x1.8, CPU time x3 (README); on for canals
   int max_cycles = 2000;             // hard limit on deformation cycles, all stages together
   double convergence_tolerance = 0.5;  // a vertex counts as moving beyond this, voxels
   int convergence_window = 5;        // converged when nothing moved for this many cycles

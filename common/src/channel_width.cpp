@@ -1,0 +1,66 @@
+#include "gdm/channel_width.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace gdm {
+
+namespace {
+
+// The 13 directions of a 3x3x3 neighbourhood, one of each opposite pair.
+const std::array<Vec3, 13>& chord_directions() {
+  static const std::array<Vec3, 13> d = [] {
+    std::array<Vec3, 13> r;
+    int n = 0;
+    for (int z = -1; z <= 1; ++z)
+      for (int y = -1; y <= 1; ++y)
+        for (int x = -1; x <= 1; ++x) {
+          const Vec3 v(x, y, z);
+          // Keep the half whose first non-zero coordinate is positive.
+          if (z > 0 || (z == 0 && (y > 0 || (y == 0 && x > 0)))) r[n++] = v.normalized();
+        }
+    return r;
+  }();
+  return d;
+}
+
+// Free run from p along d (unit), sampled every half voxel, up to `limit`.
+double free_run(const ImageEvent& image, const Vec3& p, const Vec3& d, double step, double limit) {
+  double t = step;
+  while (t <= limit && !image.is_blocked(p + t * d)) t += step;
+  return std::min(t, limit + step) - 0.5 * step;
+}
+
+}  // namespace
+
+double narrowest_chord(const ImageEvent& image, const Vec3& p, const ChannelWidthOptions& o) {
+  if (image.is_blocked(p)) return 0.0;
+  const double step = 0.5 * o.voxel, half = 0.5 * o.cap;
+  double narrowest = o.cap;
+  for (const Vec3& d : chord_directions()) {
+    const double forward = free_run(image, p, d, step, half);
+    if (forward >= narrowest) continue;
+    narrowest = std::min(narrowest, forward + free_run(image, p, -d, step, std::min(half, narrowest - forward)));
+  }
+  return narrowest;
+}
+
+double room_width(const ImageEvent& image, const Vec3& p, const Vec3& ahead, const ChannelWidthOptions& o) {
+  const double sense = image.is_blocked(p + o.voxel * ahead) ? -1.0 : 1.0;
+  double widest = 0.0;
+  for (double t = 0.5 * o.voxel; t <= 0.5 * o.cap + 1e-9; t += 0.5 * o.voxel) {
+    const Vec3 q = p + (sense * t) * ahead;
+    if (image.is_blocked(q)) break;  // across the room: its far wall
+    widest = std::max(widest, narrowest_chord(image, q, o));
+    if (widest >= o.cap) break;
+  }
+  return widest;
+}
+
+double area_for_width(double width, const ChannelWidthOptions& o, double finest, double coarse) {
+  const double edge = o.edge_per_width * width;
+  return std::clamp(0.25 * std::sqrt(3.0) * edge * edge, finest, coarse);
+}
+
+}  // namespace gdm
