@@ -49,6 +49,8 @@ struct Settings {
   bool faces_sweep = false;        // only the face budget against the Slicer chain at equal faces (a table on stdout)
   std::vector<double> fractions = {0.05, 0.10, 0.20};  // --faces-sweep: budgets as fractions of flying edges' faces
   bool sweep_cgal = false;         // --faces-sweep: CGAL Mesh_3 matched to gdm's counts too (slow)
+  bool sweep_scans = false;        // --faces-sweep: the real scans (--data) instead of the phantoms
+  std::vector<double> budgets;     // --faces-sweep: face budgets as counts (instead of --fractions)
 };
 
 void write_off(const fs::path& file, const Surface& s) {
@@ -488,11 +490,13 @@ struct Sweep {
 // (--fractions) and the Slicer chain decimated to the faces gdm gave, side by
 // side: faces, mean and p95 distance (voxels, vertices, centroids and edge
 // midpoints) to the exact surface. A table on stdout; with --out DIR also
-// faces-sweep.csv and one distance-vs-faces plot per phantom
-// (faces-<case>.png: gdm's curve over the budgets, the chain's and, with
-// --sweep-cgal, CGAL Mesh_3's matched to gdm's counts). With --dump the gdm
-// surfaces go to DIR/surfaces as OFF. A fraction of 0 is gdm without a budget
-// (its own count).
+// DIR/faces-sweep.csv (gdm, the chain and, with --sweep-cgal, CGAL Mesh_3
+// matched to gdm's counts), which scripts/faces_sweep_plot.py draws as one
+// distance-vs-faces SVG per phantom. (VTK's line_plot crashed here, outside
+// the whole study's run.) With --dump the gdm surfaces go to DIR/surfaces as
+// OFF. A fraction of 0 is gdm without a budget (its own count). --budgets
+// gives the budgets as face counts; --sweep-scans runs the real scans of
+// --data (distances to their reference surfaces) instead of the phantoms.
 int faces_sweep(const Settings& s) {
   const int threads = thread_count(s);
   set_vtk_threads(threads);
@@ -504,22 +508,27 @@ int faces_sweep(const Settings& s) {
     csv << "case,fraction,fe_faces,method,faces,mean_vox,p95_vox,seconds\n";
   }
   std::printf("| phantom | budget | gdm faces | gdm mean / p95 | chain faces | chain mean / p95 | gdm s |\n|---|---|---|---|---|---|---|\n");
-  for (const Case& c : phantom_cases(false).cases) {
+  const CaseSet set = s.sweep_scans ? scan_cases(s.data) : phantom_cases(false);
+  for (const std::string& why : set.skipped) std::fprintf(stderr, "skipped: %s\n", why.c_str());
+  for (const Case& c : set.cases) {
     if (!s.only.empty() && std::none_of(s.only.begin(), s.only.end(),
                                         [&](const std::string& o) { return c.id.find(o) != std::string::npos; }))
       continue;
     const gdm::Volume volume = to_volume(c.image);
     const Truth truth = make_truth(c);
     const std::size_t fe_faces = run_flying_edges(c.image, c.threshold).surface.faces.size();
-    Series ours = named("our GDM, face budget"), chain = named("Slicer chain at our counts"),
-           cgal = named("CGAL Mesh_3 near our counts");
     double cgal_distance = 0.0;
     const auto row = [&](double fraction, const char* method, std::size_t faces, const ErrorStats& e, double seconds) {
       if (csv.is_open())
         csv << '"' << c.name << "\"," << fraction << ',' << fe_faces << ',' << method << ',' << faces << ',' << e.mean
             << ',' << e.p95 << ',' << seconds << '\n';
     };
-    for (const double fraction : s.fractions) {
+    std::vector<double> fractions = s.fractions;
+    if (!s.budgets.empty()) {
+      fractions.clear();
+      for (const double b : s.budgets) fractions.push_back(b / static_cast<double>(fe_faces));
+    }
+    for (const double fraction : fractions) {
       const auto budget = static_cast<std::size_t>(std::lround(fraction * static_cast<double>(fe_faces)));
       if (fraction > 0.0 && budget < 20) continue;
       try {
@@ -535,28 +544,16 @@ int faces_sweep(const Settings& s) {
                     se.mean, se.p95, g.seconds);
         row(fraction, "gdm", g.surface.faces.size(), ge, g.seconds);
         row(fraction, "slicer", sl.surface.faces.size(), se, sl.seconds);
-        ours.x.push_back(static_cast<double>(g.surface.faces.size()));
-        ours.y.push_back(ge.mean);
-        chain.x.push_back(static_cast<double>(sl.surface.faces.size()));
-        chain.y.push_back(se.mean);
         if (s.sweep_cgal) {
           const PeerResult cg = run_cgal_matched(c, g.surface.faces.size(), cgal_distance);
           const ErrorStats ce = error_stats(sample_points(cg.surface), truth.distance, c.voxel_size());
           row(fraction, "cgal", cg.surface.faces.size(), ce, cg.seconds);
-          cgal.x.push_back(static_cast<double>(cg.surface.faces.size()));
-          cgal.y.push_back(ce.mean);
         }
       } catch (const std::exception& e) {
         std::printf("| %s | %.0f %% | failed: %s |\n", c.name.c_str(), 100.0 * fraction, e.what());
       }
       std::fflush(stdout);
       csv.flush();
-    }
-    if (!s.out.empty() && ours.x.size() > 1) {
-      std::vector<Series> series = {ours, chain};
-      if (!cgal.x.empty()) series.push_back(cgal);
-      line_plot((fs::path(s.out) / ("faces-" + c.id + ".png")).string(), "Mean distance vs faces: " + c.name, "faces",
-                "mean distance to the truth (voxels)", series, true, true);
     }
   }
   return 0;
@@ -907,6 +904,11 @@ int main(int argc, char** argv) {
       else if (a == "--dump") s.dump = true;
       else if (a == "--faces-sweep") s.faces_sweep = true;
       else if (a == "--sweep-cgal") s.sweep_cgal = true;
+      else if (a == "--sweep-scans") s.sweep_scans = true;
+      else if (a == "--budgets") {
+        std::stringstream list(value());
+        for (std::string item; std::getline(list, item, ',');) s.budgets.push_back(std::stod(item));
+      }
       else if (a == "--fractions") {
         s.fractions.clear();
         std::stringstream list(value());
@@ -914,7 +916,7 @@ int main(int argc, char** argv) {
       }
       else {
         std::fprintf(stderr, "gdm_benchmark_study: unknown argument '%s'\nusage: gdm_benchmark_study --out DIR [--quick] "
-                             "[--runs N] [--threads N] [--data DIR] [--commit TEXT] [--budget SECONDS] [--only CASE-ID-PART]... [--dump] [--faces-sweep [--fractions F,F,...] [--sweep-cgal]]\n", a.c_str());
+                             "[--runs N] [--threads N] [--data DIR] [--commit TEXT] [--budget SECONDS] [--only CASE-ID-PART]... [--dump] [--faces-sweep [--fractions F,F,...|--budgets N,N,...] [--sweep-cgal] [--sweep-scans]]\n", a.c_str());
         return 2;
       }
     } catch (const std::exception&) {
