@@ -189,6 +189,34 @@ class Reducer {
 
 }  // namespace
 
+std::vector<double> subdivision_fit_bounds(const Mesh& mesh, int rings, double floor_mm) {
+  // Per vertex: the largest sagitta of the edges at it (the edges of the
+  // subdivided mesh along a coarse edge turn by the coarse edge's angle; an
+  // edge inside a coarse face does not turn).
+  std::vector<double> sagitta(mesh.n_vertices(), 0.0);
+  for (auto e : mesh.edges()) {
+    if (mesh.is_boundary(e)) continue;
+    const auto h = mesh.halfedge_handle(e, 0);
+    const Vec3 n0 = to_eigen(mesh.calc_face_normal(mesh.face_handle(h)));
+    const Vec3 n1 = to_eigen(mesh.calc_face_normal(mesh.face_handle(mesh.opposite_halfedge_handle(h))));
+    const double theta = std::acos(std::clamp(n0.dot(n1), -1.0, 1.0));
+    const double s = 2.0 * mesh.calc_edge_length(e) * theta / 8.0;
+    for (auto v : {mesh.from_vertex_handle(h), mesh.to_vertex_handle(h)})
+      sagitta[static_cast<std::size_t>(v.idx())] = std::max(sagitta[static_cast<std::size_t>(v.idx())], s);
+  }
+  // The largest within `rings` rings (a vertex inside a coarse face lies
+  // between coarse edges).
+  for (int r = 0; r < rings; ++r) {
+    std::vector<double> next = sagitta;
+    for (auto v : mesh.vertices())
+      for (auto w : mesh.vv_range(v))
+        next[static_cast<std::size_t>(v.idx())] = std::max(next[static_cast<std::size_t>(v.idx())], sagitta[static_cast<std::size_t>(w.idx())]);
+    sagitta.swap(next);
+  }
+  for (double& s : sagitta) s += floor_mm;
+  return sagitta;
+}
+
 ReduceResult reduce_to_faces(Mesh& mesh, const ReduceOptions& options) {
   mesh.request_vertex_status();
   mesh.request_edge_status();

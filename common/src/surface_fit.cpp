@@ -293,7 +293,10 @@ FitResult fit_to_threshold(Mesh& mesh, const Volume& volume, double threshold, c
       const Vec3 p = pos(mesh, v);
       Vec3 target = p + smoothed[v.idx()] * normal[v.idx()];
       const Vec3& anchor = origin[v.idx()];
-      if ((target - anchor).norm() > max_move) target = anchor + (target - anchor).normalized() * max_move;
+      const auto vi = static_cast<std::size_t>(v.idx());
+      const double bound =
+          vi < o.vertex_max_distance.size() && o.vertex_max_distance[vi] > 0.0 ? o.vertex_max_distance[vi] : max_move;
+      if ((target - anchor).norm() > bound) target = anchor + (target - anchor).normalized() * bound;
       if ((target - p).norm() < still) continue;  // already there: spare the guard
       bool accepted = false;
       for (int attempt = 0; attempt < 3 && !accepted; ++attempt) {

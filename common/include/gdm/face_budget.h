@@ -17,6 +17,7 @@
 #pragma once
 
 #include <cstddef>
+#include <vector>
 
 #include "gdm/mesh.h"
 
@@ -40,6 +41,19 @@ struct ReduceResult {
   std::size_t collapses = 0;  // edges collapsed
   std::size_t faces = 0;      // faces left (deleted ones not counted)
 };
+
+// How far the fit may move each vertex of a model just subdivided for the
+// budget (1-to-4) from where it stands, mm by vertex index: what the coarse
+// faces could miss of a smooth surface, the sagitta e x theta / 8 of a coarse
+// edge (twice a fine one, length e) across which the faces turn by theta,
+// the largest within `rings` rings, plus `floor_mm`. The coarse model,
+// converged and fitted over large faces, averaged the image noise away; a
+// fine vertex alone does not, and impulse noise (a dark speck just inside the
+// surface) has a crossing of its own that pulls it in, a dent the reduction
+// would then keep as a feature. Where the coarse faces turn (edges, corners,
+// bends) the bound grows and the fine fit reaches the surface they cut
+// across.
+std::vector<double> subdivision_fit_bounds(const Mesh& mesh, int rings, double floor_mm);
 
 // Collapses halfedges of `mesh` (a closed 2-manifold), least quadric error
 // first, until at most options.faces faces remain or no guarded collapse is

@@ -35,6 +35,8 @@ struct FitOptions {
                                 // drawn toward the quadric fitted over its 2-ring with weight
                                 // s^2 / (s^2 + h^2), s = regularization x noise, h the vertex's height
                                 // above that quadric; 0: off
+  std::vector<double> vertex_max_distance;  // mm, by vertex index: where given (and > 0) it replaces
+                                            // max_distance for that vertex; empty: max_distance for all
   bool prevent_self_intersection = true;  // every move checked by the IntersectionGuard
   int threads = 0;              // workers for the offsets (0 = all cores); the result does not depend on it
 };

@@ -47,6 +47,10 @@ struct Settings {
   std::vector<std::string> only;  // run only the cases whose id contains one of these (debugging)
   bool dump = false;               // write every surface as OFF into out/surfaces/
   bool faces_sweep = false;        // only the face budget against the Slicer chain at equal faces (a table on stdout)
+  std::vector<double> fractions = {0.05, 0.10, 0.20};  // --faces-sweep: budgets as fractions of flying edges' faces
+  bool sweep_cgal = false;         // --faces-sweep: CGAL Mesh_3 matched to gdm's counts too (slow)
+  bool sweep_scans = false;        // --faces-sweep: the real scans (--data) instead of the phantoms
+  std::vector<double> budgets;     // --faces-sweep: face budgets as counts (instead of --fractions)
 };
 
 void write_off(const fs::path& file, const Surface& s) {
@@ -164,6 +168,9 @@ PeerResult run_gdm(const Case& c, const gdm::Volume& volume, const Method& m, in
   out.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   out.surface = from_gdm(mesh);
   out.note = gdm::to_string(r.reason) + " after " + std::to_string(r.cycles) + " cycles";
+  if (face_budget > 0)
+    out.note += ", budget: " + std::to_string(r.budget_subdivisions) + " subdivisions, " +
+                std::to_string(r.budget_collapses) + " collapses, " + std::to_string(r.budget_splits) + " splits";
   if (r.border_vertices > 0) out.note += ", " + std::to_string(r.border_vertices) + " vertices at the border (leak)";
   if (o.gap > 0.0) {
     char g[32];
@@ -480,36 +487,73 @@ struct Sweep {
 
 // --faces-sweep (issue 16): on every phantom (clean and noisy; --only
 // filters), gdm with a face budget of 5, 10 and 20 % of flying edges' faces
-// and the Slicer chain decimated to the faces gdm gave, side by side: faces,
-// mean and p95 distance (voxels, vertices, centroids and edge midpoints) to
-// the exact surface. A table on stdout.
+// (--fractions) and the Slicer chain decimated to the faces gdm gave, side by
+// side: faces, mean and p95 distance (voxels, vertices, centroids and edge
+// midpoints) to the exact surface. A table on stdout; with --out DIR also
+// DIR/faces-sweep.csv (gdm, the chain and, with --sweep-cgal, CGAL Mesh_3
+// matched to gdm's counts), which scripts/faces_sweep_plot.py draws as one
+// distance-vs-faces SVG per phantom. (VTK's line_plot crashed here, outside
+// the whole study's run.) With --dump the gdm surfaces go to DIR/surfaces as
+// OFF. A fraction of 0 is gdm without a budget (its own count). --budgets
+// gives the budgets as face counts; --sweep-scans runs the real scans of
+// --data (distances to their reference surfaces) instead of the phantoms.
 int faces_sweep(const Settings& s) {
   const int threads = thread_count(s);
   set_vtk_threads(threads);
   const Method gdm_method = methods().front();
+  std::ofstream csv;
+  if (!s.out.empty()) {
+    fs::create_directories(s.out);
+    csv.open((fs::path(s.out) / "faces-sweep.csv").string());
+    csv << "case,fraction,fe_faces,method,faces,mean_vox,p95_vox,seconds\n";
+  }
   std::printf("| phantom | budget | gdm faces | gdm mean / p95 | chain faces | chain mean / p95 | gdm s |\n|---|---|---|---|---|---|---|\n");
-  for (const Case& c : phantom_cases(false).cases) {
+  const CaseSet set = s.sweep_scans ? scan_cases(s.data) : phantom_cases(false);
+  for (const std::string& why : set.skipped) std::fprintf(stderr, "skipped: %s\n", why.c_str());
+  for (const Case& c : set.cases) {
     if (!s.only.empty() && std::none_of(s.only.begin(), s.only.end(),
                                         [&](const std::string& o) { return c.id.find(o) != std::string::npos; }))
       continue;
     const gdm::Volume volume = to_volume(c.image);
     const Truth truth = make_truth(c);
     const std::size_t fe_faces = run_flying_edges(c.image, c.threshold).surface.faces.size();
-    for (const double fraction : {0.05, 0.10, 0.20}) {
+    double cgal_distance = 0.0;
+    const auto row = [&](double fraction, const char* method, std::size_t faces, const ErrorStats& e, double seconds) {
+      if (csv.is_open())
+        csv << '"' << c.name << "\"," << fraction << ',' << fe_faces << ',' << method << ',' << faces << ',' << e.mean
+            << ',' << e.p95 << ',' << seconds << '\n';
+    };
+    std::vector<double> fractions = s.fractions;
+    if (!s.budgets.empty()) {
+      fractions.clear();
+      for (const double b : s.budgets) fractions.push_back(b / static_cast<double>(fe_faces));
+    }
+    for (const double fraction : fractions) {
       const auto budget = static_cast<std::size_t>(std::lround(fraction * static_cast<double>(fe_faces)));
-      if (budget < 20) continue;
+      if (fraction > 0.0 && budget < 20) continue;
       try {
         const PeerResult g = run_gdm(c, volume, gdm_method, threads, 0.0, budget);
+        if (std::getenv("GDM_STUDY_VERBOSE")) std::fprintf(stderr, "  %s: %s\n", c.name.c_str(), g.note.c_str());
+        if (s.dump)
+          write_off(fs::path(s.out) / "surfaces" / (c.id + "-faces-" + std::to_string(budget) + ".off"), g.surface);
         const ErrorStats ge = error_stats(sample_points(g.surface), truth.distance, c.voxel_size());
         const PeerResult sl = run_slicer_chain(c.image, c.threshold, g.surface.faces.size());
         const ErrorStats se = error_stats(sample_points(sl.surface), truth.distance, c.voxel_size());
         std::printf("| %s | %.0f %% of %zu | %zu | %.3f / %.3f | %zu | %.3f / %.3f | %.2f |\n", c.name.c_str(),
                     100.0 * fraction, fe_faces, g.surface.faces.size(), ge.mean, ge.p95, sl.surface.faces.size(),
                     se.mean, se.p95, g.seconds);
+        row(fraction, "gdm", g.surface.faces.size(), ge, g.seconds);
+        row(fraction, "slicer", sl.surface.faces.size(), se, sl.seconds);
+        if (s.sweep_cgal) {
+          const PeerResult cg = run_cgal_matched(c, g.surface.faces.size(), cgal_distance);
+          const ErrorStats ce = error_stats(sample_points(cg.surface), truth.distance, c.voxel_size());
+          row(fraction, "cgal", cg.surface.faces.size(), ce, cg.seconds);
+        }
       } catch (const std::exception& e) {
         std::printf("| %s | %.0f %% | failed: %s |\n", c.name.c_str(), 100.0 * fraction, e.what());
       }
       std::fflush(stdout);
+      csv.flush();
     }
   }
   return 0;
@@ -859,9 +903,20 @@ int main(int argc, char** argv) {
       else if (a == "--only") s.only.push_back(value());
       else if (a == "--dump") s.dump = true;
       else if (a == "--faces-sweep") s.faces_sweep = true;
+      else if (a == "--sweep-cgal") s.sweep_cgal = true;
+      else if (a == "--sweep-scans") s.sweep_scans = true;
+      else if (a == "--budgets") {
+        std::stringstream list(value());
+        for (std::string item; std::getline(list, item, ',');) s.budgets.push_back(std::stod(item));
+      }
+      else if (a == "--fractions") {
+        s.fractions.clear();
+        std::stringstream list(value());
+        for (std::string item; std::getline(list, item, ',');) s.fractions.push_back(std::stod(item));
+      }
       else {
         std::fprintf(stderr, "gdm_benchmark_study: unknown argument '%s'\nusage: gdm_benchmark_study --out DIR [--quick] "
-                             "[--runs N] [--threads N] [--data DIR] [--commit TEXT] [--budget SECONDS] [--only CASE-ID-PART]... [--dump]\n", a.c_str());
+                             "[--runs N] [--threads N] [--data DIR] [--commit TEXT] [--budget SECONDS] [--only CASE-ID-PART]... [--dump] [--faces-sweep [--fractions F,F,...|--budgets N,N,...] [--sweep-cgal] [--sweep-scans]]\n", a.c_str());
         return 2;
       }
     } catch (const std::exception&) {
