@@ -9,6 +9,7 @@
 #include "gdm/float_snap.h"
 #include "gdm/mesh_checks.h"
 #include "gdm/phantoms.h"
+#include "gdm/resampler.h"
 #include "gdm/seed.h"
 
 using namespace gdm;
@@ -212,5 +213,51 @@ TEST(Deformer, models_end_on_float_points_unless_asked_not_to) {
     EXPECT_EQ(is_float_exact(m), snap);
     EXPECT_EQ(r.float_refused, 0u);
     EXPECT_EQ(self_intersecting_pairs(m), 0u);
+  }
+}
+
+TEST(Deformer, global_refinement_never_rounds_faces_into_each_other) {
+  // A tetrahedron folded flat to within one double spacing: D lies an ulp
+  // above C, so faces ABC and ADB fold onto each other across AB, and ACD,
+  // BDC are slivers (exactly, no two faces meet improperly). With no force
+  // on the vertices (a0 far too small to lower the cost beyond rounding, a1
+  // and a2 zero) and no face above the level of detail, the first stage
+  // converges at once and the model is refined globally. The rounded midpoints of AC and AD are the
+  // same point: the children of ABC and ADB at A fold onto each other. An MRI
+  // head at the defaults refined such a spot (vertices its first stage had
+  // gathered) into 104 intersecting face pairs that no later step removed.
+  ph::Grid grid;
+  grid.dims = {32, 32, 32};
+  const Vec3 c = grid.center();
+  const Volume volume = ph::voxelize(grid, ph::sphere(c, 10.0));
+  const Vec3 a(c.x(), c.y(), c.z()), b(c.x() + 1.5, c.y() + 2.5, c.z()), p(c.x() + 3.0, c.y(), c.z());
+  const Vec3 d(p.x(), p.y(), std::nextafter(p.z(), 1e300));
+  ASSERT_NE(p.z(), d.z());
+  Mesh seed;
+  const auto va = seed.add_vertex(to_point(a)), vb = seed.add_vertex(to_point(b)), vc = seed.add_vertex(to_point(p)),
+             vd = seed.add_vertex(to_point(d));
+  seed.add_face(va, vb, vc);
+  seed.add_face(va, vd, vb);
+  seed.add_face(va, vc, vd);
+  seed.add_face(vb, vd, vc);
+  ASSERT_TRUE(is_closed(seed));
+  ASSERT_EQ(self_intersecting_pairs(seed), 0u);
+  Mesh refined = seed;  // what the refinement alone makes of it
+  subdivide_all(refined, 1);
+  ASSERT_GT(self_intersecting_pairs(refined), 0u);
+  for (bool flips : {true, false}) {
+    Mesh m = seed;
+    DeformOptions o = options();
+    o.improve_triangles = flips;
+    o.a0 = 1e-20;
+    o.a1 = 0.0;
+    o.a2 = 0.0;
+    o.float_exact_output = false;
+    const DeformResult r = deform(m, volume, o);
+    EXPECT_TRUE(is_closed(m));
+    EXPECT_TRUE(is_two_manifold(m));
+    EXPECT_EQ(self_intersecting_pairs(m), 0u);
+    EXPECT_EQ(r.reason, StopReason::converged);
+    EXPECT_EQ(r.global_refinements, 0);  // the refinement was undone
   }
 }

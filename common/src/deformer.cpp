@@ -13,6 +13,7 @@
 #include "gdm/face_budget.h"
 #include "gdm/float_snap.h"
 #include "gdm/intersection_guard.h"
+#include "gdm/mesh_checks.h"
 #include "gdm/option_catalogue.h"
 #include "gdm/parallel.h"
 #include "gdm/passage.h"
@@ -247,6 +248,7 @@ class Deformer {
   std::size_t refine_where_blocked(int cycle);
   std::size_t relax_bridges();
   void improve_quality(DeformResult& result);
+  bool subdivide_safely(int cycle);
   void refine_for_budget(int cycle, const FitOptions& fit, std::vector<Vec3>& origin, DeformResult& result);
   void reduce_to_budget(const FitOptions& fit, DeformResult& result);
   void settle_budget(DeformResult& result);
@@ -779,6 +781,27 @@ void Deformer::finish(int cycle, DeformResult& result) {
   mesh_.release_face_status();
 }
 
+// Section 6's 1-to-4 resampling, undone when it made faces meet. The new
+// vertices are rounded midpoints: exactly, the four new faces tile the old
+// one, but where the guard let faces come within rounding of each other
+// (vertices the model pressed together: rounded midpoints of nearly
+// coincident ends are the same point) the new faces cross or fold onto each
+// other. Measured on an MRI head at the defaults: 0 intersecting pairs before
+// the refinement, 104 after, all in one spot where the first stage had
+// gathered vertices (371 pairs within 1e-3 mm of each other, inside 4 mm).
+// Returns whether the mesh was refined.
+bool Deformer::subdivide_safely(int cycle) {
+  if (!o_.prevent_self_intersection) {
+    subdivide_all(mesh_, cycle);
+    return true;
+  }
+  Mesh coarser = mesh_;
+  subdivide_all(mesh_, cycle);
+  if (self_intersecting_pairs(mesh_) == 0) return true;
+  mesh_ = std::move(coarser);
+  return false;
+}
+
 // Beyond the paper (issue 16): the face budget needs a fitted model with more
 // faces than the budget to choose from. While it has fewer than
 // kBudgetSourceFactor times the budget, every face becomes four (section 6's
@@ -788,7 +811,7 @@ void Deformer::finish(int cycle, DeformResult& result) {
 void Deformer::refine_for_budget(int cycle, const FitOptions& fit, std::vector<Vec3>& origin, DeformResult& result) {
   while (static_cast<double>(mesh_.n_faces()) < kBudgetSourceFactor * static_cast<double>(o_.face_budget) &&
          4 * mesh_.n_faces() <= o_.max_faces) {
-    subdivide_all(mesh_, cycle);
+    if (!subdivide_safely(cycle)) break;
     ++result.budget_subdivisions;
     // Each subdivision quarters the area the fit's 2-ring quadric sees, so its
     // noise-adaptive smoothing grows four times (at most the catalogue's 5):
@@ -1006,7 +1029,10 @@ DeformResult Deformer::run() {
     // Section 6: after a first convergence, refine globally and converge again.
     // (Not with an obstacle: a collapse is not checked against it.)
     if (o_.mode == Mode::shrink && !o_.obstacle) result.lod_collapses += coarsen_shrunk_faces();
-    subdivide_all(mesh_, cycle);
+    if (!subdivide_safely(cycle)) {
+      result.reason = StopReason::converged;
+      break;
+    }
     ++report_.stage;
     step_.clear();
     cost_value_.clear();
