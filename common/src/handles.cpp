@@ -64,10 +64,13 @@ std::vector<int> membrane_labels(const Volume& volume, const CavityFill& fill, s
               }
         }
         const Vec3 centre = sum / static_cast<double>(queue.size());
+        // The membrane with specks of the fill next to it: about the handle's
+        // voxels, its centroid near the handle's centre.
         for (std::size_t c = 0; c < fill.cavities.size(); ++c) {
           const Cavity& h = fill.cavities[c];
-          if (h.kind != CavityKind::handle || h.voxels != queue.size() ||
-              (h.centre - centre).norm() > 0.5 * volume.voxel_size())
+          if (h.kind != CavityKind::handle || queue.size() < h.voxels ||
+              static_cast<double>(queue.size()) > 1.1 * static_cast<double>(h.voxels) + 16.0 ||
+              (h.centre - centre).norm() > 1.5 * volume.voxel_size())
             continue;
           handles.push_back(c);
           const int id = static_cast<int>(handles.size());
@@ -78,31 +81,22 @@ std::vector<int> membrane_labels(const Volume& volume, const CavityFill& fill, s
   return label;
 }
 
-// The membrane a face lies on (its label), or 0: the face's centroid lies in
-// a cell with a membrane voxel at a corner, and there the filled volume and
-// the input differ by more than half the input's distance to T (the face is
-// on the membrane's threshold surface, not on the object's).
-int face_membrane(const Mesh& mesh, Mesh::FaceHandle f, const Volume& volume, const Volume& filled,
-                  const std::vector<int>& label, double t) {
-  Vec3 c = Vec3::Zero();
-  for (auto v : mesh.fv_range(f)) c += to_eigen(mesh.point(v));
-  c /= 3.0;
-  const double original = volume.sample(c), changed = filled.sample(c);
-  if (!(std::abs(changed - original) > 0.5 * std::abs(t - original))) return 0;
-  const Vec3 x = volume.to_continuous_index(c);
+// The membrane a face lies on (its label), or 0: the point 0.75 voxel
+// behind the face (inside the model, against its outward normal) lies in a
+// membrane voxel. Faces on the object's wall have the object behind them.
+int face_membrane(const Mesh& mesh, Mesh::FaceHandle f, const Volume& volume, const std::vector<int>& label) {
+  std::array<Vec3, 3> p;
+  int c = 0;
+  for (auto v : mesh.fv_range(f)) p[c++] = to_eigen(mesh.point(v));
+  const Vec3 normal = (p[1] - p[0]).cross(p[2] - p[0]);
+  if (!(normal.norm() > 0.0)) return 0;
+  const Vec3 behind = (p[0] + p[1] + p[2]) / 3.0 - 0.75 * volume.voxel_size() * normal.normalized();
+  const Vec3 x = volume.to_continuous_index(behind);
   const Index3 n = volume.dims();
-  int found = 0;
-  for (int dz = 0; dz <= 1; ++dz)
-    for (int dy = 0; dy <= 1; ++dy)
-      for (int dx = 0; dx <= 1; ++dx) {
-        const int i = static_cast<int>(std::floor(x.x())) + dx, j = static_cast<int>(std::floor(x.y())) + dy,
-                  k = static_cast<int>(std::floor(x.z())) + dz;
-        if (i < 0 || j < 0 || k < 0 || i >= n[0] || j >= n[1] || k >= n[2]) continue;
-        const int l = label[linear(n, i, j, k)];
-        if (l > 0 && found == 0) found = l;
-        if (l > 0 && l != found) return 0;  // two membranes: leave it
-      }
-  return found;
+  const int i = static_cast<int>(std::lround(x.x())), j = static_cast<int>(std::lround(x.y())),
+            k = static_cast<int>(std::lround(x.z()));
+  if (i < 0 || j < 0 || k < 0 || i >= n[0] || j >= n[1] || k >= n[2]) return 0;
+  return label[linear(n, i, j, k)];
 }
 
 // The edge-connected groups of the faces marked with membrane `id`.
@@ -162,8 +156,8 @@ void close_patch(const Mesh& mesh, std::vector<int>& patch) {
 }
 
 // The patch's boundary as one loop of vertex indices, in the direction of
-// the patch's halfedges reversed (the direction of the boundary halfedges
-// once the patch is removed); empty unless the patch is a disc (one loop,
+// the patch's own halfedges there (those of the boundary once the patch is
+// removed); empty unless the patch is a disc (one loop,
 // V - E + F = 1, no vertex twice on the loop).
 std::vector<int> disc_boundary(const Mesh& mesh, const std::vector<int>& patch) {
   std::vector<char> in(mesh.n_faces(), 0);
@@ -183,8 +177,8 @@ std::vector<int> disc_boundary(const Mesh& mesh, const std::vector<int>& patch) 
       const auto g = mesh.face_handle(opposite);
       if (!g.is_valid() || !in[g.idx()]) {
         ++edges;
-        // Removing the patch, the outside face keeps `opposite`: from h's head to its tail.
-        const int from = mesh.to_vertex_handle(h).idx(), to = mesh.from_vertex_handle(h).idx();
+        // Removing the patch, h is left without a face: a boundary halfedge, tail to head.
+        const int from = mesh.from_vertex_handle(h).idx(), to = mesh.to_vertex_handle(h).idx();
         if (next.count(from)) return {};  // a vertex twice on the boundary
         next[from] = to;
       } else if (f.idx() < g.idx()) {
@@ -238,16 +232,78 @@ std::vector<Mesh::FaceHandle> stitch(Mesh& mesh, const std::vector<int>& a, std:
   return faces;
 }
 
+// A point at arclength fraction s in [0, 1) along a closed polyline.
+Vec3 along(const std::vector<Vec3>& loop, const std::vector<double>& at, double s) {
+  const double total = at.back();
+  const double target = s * total;
+  std::size_t i = static_cast<std::size_t>(std::upper_bound(at.begin(), at.end(), target) - at.begin());
+  i = std::min(std::max<std::size_t>(i, 1), loop.size());
+  const double length = at[i] - at[i - 1];
+  const double f = length > 0.0 ? (target - at[i - 1]) / length : 0.0;
+  return loop[i - 1] + f * (loop[i % loop.size()] - loop[i - 1]);
+}
+
+// Cumulative arclength of a closed polyline: at[0] = 0, at[n] = its length.
+std::vector<double> arclength(const std::vector<Vec3>& loop) {
+  std::vector<double> at(loop.size() + 1, 0.0);
+  for (std::size_t i = 0; i < loop.size(); ++i) at[i + 1] = at[i] + (loop[(i + 1) % loop.size()] - loop[i]).norm();
+  return at;
+}
+
+// The tube between two boundary loops: rings of new vertices, each at the
+// same fraction of the straight way from `a` to `b` (matched by arclength,
+// `b` walked backwards from its vertex nearest a[0]), as many as make the
+// tube's edges about as long as the loops' own; then the loops and rings
+// stitched in turn. The rings lie in the solid model's inside (between the
+// membrane's two rims), where the next deformation moves them onto the
+// hole's wall. False when OpenMesh refused a face.
+bool tube(Mesh& mesh, const std::vector<int>& a, const std::vector<int>& b) {
+  const auto p = [&](int v) { return to_eigen(mesh.point(mesh.vertex_handle(v))); };
+  std::vector<Vec3> pa, pb;
+  for (int v : a) pa.push_back(p(v));
+  std::vector<int> rb(b.rbegin(), b.rend());
+  std::size_t start = 0;
+  for (std::size_t j = 1; j < rb.size(); ++j)
+    if ((p(rb[j]) - pa[0]).squaredNorm() < (p(rb[start]) - pa[0]).squaredNorm()) start = j;
+  std::rotate(rb.begin(), rb.begin() + static_cast<long>(start), rb.end());
+  for (int v : rb) pb.push_back(p(v));
+  const std::vector<double> la = arclength(pa), lb = arclength(pb);
+  const double edge = 0.5 * (la.back() / static_cast<double>(pa.size()) + lb.back() / static_cast<double>(pb.size()));
+  const std::size_t n = std::max(pa.size(), pb.size());
+  double widest = 0.0;
+  std::vector<Vec3> from(n), to(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double s = static_cast<double>(i) / static_cast<double>(n);
+    from[i] = along(pa, la, s);
+    to[i] = along(pb, lb, s);
+    widest = std::max(widest, (to[i] - from[i]).norm());
+  }
+  const int rings = edge > 0.0 ? std::max(0, static_cast<int>(std::ceil(widest / edge)) - 1) : 0;
+  std::vector<int> previous = a;
+  for (int k = 1; k <= rings; ++k) {
+    const double f = static_cast<double>(k) / static_cast<double>(rings + 1);
+    std::vector<int> ring;
+    for (std::size_t i = 0; i < n; ++i) ring.push_back(mesh.add_vertex(to_point(from[i] + f * (to[i] - from[i]))).idx());
+    // stitch() walks its second loop backwards: hand it the ring reversed.
+    const std::vector<int> reversed(ring.rbegin(), ring.rend());
+    const std::vector<Mesh::FaceHandle> faces = stitch(mesh, previous, reversed);
+    if (faces.empty() || !std::all_of(faces.begin(), faces.end(), [](auto h) { return h.is_valid(); })) return false;
+    previous = ring;
+  }
+  const std::vector<Mesh::FaceHandle> faces = stitch(mesh, previous, b);
+  return !faces.empty() && std::all_of(faces.begin(), faces.end(), [](auto h) { return h.is_valid(); });
+}
+
 }  // namespace
 
-OpenedHandles open_handles(Mesh& mesh, const Volume& volume, const CavityFill& fill, double threshold) {
+OpenedHandles open_handles(Mesh& mesh, const Volume& volume, const CavityFill& fill) {
   OpenedHandles out;
   if (!fill.applied) return out;
   std::vector<std::size_t> handles;
   const std::vector<int> label = membrane_labels(volume, fill, handles);
   if (handles.empty()) return out;
   std::vector<int> face_label(mesh.n_faces(), 0);
-  for (auto f : mesh.faces()) face_label[f.idx()] = face_membrane(mesh, f, volume, fill.volume, label, threshold);
+  for (auto f : mesh.faces()) face_label[f.idx()] = face_membrane(mesh, f, volume, label);
   std::vector<float> values = fill.volume.values();
   const std::size_t baseline = self_intersecting_pairs(mesh);
   for (std::size_t h = 0; h < handles.size(); ++h) {
@@ -271,8 +327,7 @@ OpenedHandles open_handles(Mesh& mesh, const Volume& volume, const CavityFill& f
     trial.request_face_status();
     for (const auto& patch : {patches[0], patches[1]})
       for (int f : patch) trial.delete_face(trial.face_handle(f), true);
-    const std::vector<Mesh::FaceHandle> band = stitch(trial, a, b);
-    const bool stitched = !band.empty() && std::all_of(band.begin(), band.end(), [](auto f) { return f.is_valid(); });
+    const bool stitched = tube(trial, a, b);
     if (!stitched) {
       trial.release_face_status();
       ++out.kept_caps;
@@ -291,7 +346,7 @@ OpenedHandles open_handles(Mesh& mesh, const Volume& volume, const CavityFill& f
     ++out.opened;
     // Face indices changed: label the new mesh's faces again for the next membranes.
     face_label.assign(mesh.n_faces(), 0);
-    for (auto f : mesh.faces()) face_label[f.idx()] = face_membrane(mesh, f, volume, fill.volume, label, threshold);
+    for (auto f : mesh.faces()) face_label[f.idx()] = face_membrane(mesh, f, volume, label);
     for (std::size_t at = 0; at < values.size(); ++at)
       if (label[at] == id) values[at] = volume.values()[at];
   }

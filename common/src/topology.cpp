@@ -227,7 +227,7 @@ void add_cavity_components(Mesh& mesh, const Volume& volume, const CavityFill& f
     // Each cap opened into a tube, fitted to the hole's wall by one more run
     // (no global refinement: the model is at its level of detail already).
     Mesh opened = mesh;
-    const OpenedHandles h = open_handles(opened, volume, fill, options.threshold);
+    const OpenedHandles h = open_handles(opened, volume, fill);
     if (h.opened > 0) {
       DeformOptions o = options;
       o.topology = Topology::solid;

@@ -19,6 +19,7 @@
 #include "itkPoint.h"
 
 #include "gdm/deformer.h"
+#include "gdm/option_catalogue.h"
 
 // ITK 5.4 introduced itkOverrideGetNameOfClassMacro; provide it on older ITK.
 #ifndef itkOverrideGetNameOfClassMacro
@@ -348,9 +349,10 @@ public:
   itkBooleanMacro(FillCavities);
 
   /** The model's topology, growing: "solid" (default: one closed genus-0
-   * outer surface, cavities filled, handles capped) or "exact" (each enclosed
-   * cavity also becomes its own closed component with normals into the
-   * cavity; needs FillCavities; handles are still capped). Throws
+   * outer surface, cavities filled, handles capped) or "exact" (the data's
+   * topology: each enclosed cavity also its own closed component with normals
+   * into the cavity, each handle a tube through its hole; needs
+   * FillCavities). Throws
    * itk::ExceptionObject for another name. */
   void
   SetTopology(const std::string & topology)

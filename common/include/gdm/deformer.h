@@ -56,9 +56,10 @@ struct DeformOptions {
                                      // narrowest place (cavities.h): a genus-0 model of a torus without
                                      // two fronts meeting across its tube; reported as a handle
   Topology topology = Topology::solid;  // growing: solid = one genus-0 outer surface (cavities filled, handles
-                                        // capped); exact = each enclosed cavity also becomes its own closed
-                                        // component with inward normals (topology.h; needs fill_cavities;
-                                        // handles are still capped)
+                                        // capped); exact = the data's topology: each enclosed cavity also its
+                                        // own closed component with normals into the cavity, each handle's
+                                        // cap opened into a tube through the hole (genus up; topology.h);
+                                        // needs fill_cavities
   bool refine_channels = false;      // once the last stage converged, refine locally where faces are too
                                      // large to enter a channel the image shows (so the level of detail
                                      // sets face sizes, the gap where the model goes); off by default: on
@@ -200,7 +201,8 @@ std::string cavity_summary(const DeformResult& result);
 std::string handle_summary(const DeformResult& result);
 
 // What the exact topology did, for logs: "topology exact: 1 enclosed cavity
-// as its own inward component (1,280 faces); handles capped: 0". Empty for solid.
+// as its own closed component, normals into the cavity (1280 faces); 1 of 1
+// handle(s) opened into a tube through the hole (genus +1)". Empty for solid.
 std::string topology_summary(const DeformResult& result);
 
 // Checks the options against the volume; throws InvalidOption or InvalidVolume.

@@ -6,8 +6,15 @@
 // a separate model is grown in the cavity (the cavity is its object), its
 // faces are reversed so its normals point into the cavity, away from the
 // object, and it is added to the outer model only when the union stays free
-// of self-intersections. Handles are still capped in `exact` (the model stays
-// genus 0 there and reports each cap; following a handle's genus is not built).
+// of self-intersections. A handle's cap (the membrane the fill left across
+// its hole) is opened into a tube through the hole (handles.cpp): the patches
+// of the converged model on the membrane's two sides are removed, their
+// boundary loops joined by a tube of new rings, and the model deformed once
+// more on the volume without that membrane, so the tube settles on the
+// hole's wall under the intersection guard; each opened cap raises the genus
+// by one. A cap that cannot be opened safely stays, and is counted. Pockets
+// joined to the outside only through narrow openings stay filled as in
+// `solid` (they are not enclosed).
 #pragma once
 
 #include <cstddef>
@@ -77,7 +84,7 @@ struct OpenedHandles {
 // removed and their boundary loops stitched by a band through the hole
 // (handles.cpp). Each opening raises the genus by one. Only changes that keep
 // the model closed, 2-manifold and free of new self-intersections are made.
-OpenedHandles open_handles(Mesh& mesh, const Volume& volume, const CavityFill& fill, double threshold);
+OpenedHandles open_handles(Mesh& mesh, const Volume& volume, const CavityFill& fill);
 
 // deform()'s last step with the exact topology, growing: the enclosed cavities
 // of `fill` (computed on `volume`, the volume the outer model grew in) added
