@@ -173,6 +173,7 @@ std::string report_json(const RunRecord& r, const Options& options) {
       .add("handles", json_number(r.model.handles))
       .add("handle_voxels", json_number(r.model.handle_voxels))
       .add("topology", json_string(gdm::to_string(r.model.topology)))
+      .add("handles_opened", json_number(r.model.handles_opened))
       .add("cavity_components", json_number(r.model.cavity_components))
       .add("cavity_component_faces", json_number(r.model.cavity_component_faces))
       .add("cavities_not_modelled", json_number(r.model.cavities_not_modelled))

@@ -663,6 +663,7 @@ py::dict model_report(const gdm::DeformResult& r, double seconds) {
   d["handles"] = r.handles;
   d["handle_voxels"] = r.handle_voxels;
   d["topology"] = gdm::to_string(r.topology);
+  d["handles_opened"] = r.handles_opened;
   d["cavity_components"] = r.cavity_components;
   d["cavity_component_faces"] = r.cavity_component_faces;
   d["cavities_not_modelled"] = r.cavities_not_modelled;
