@@ -24,6 +24,7 @@ void log_result(const gdm::PipelineResult& r, LogLines* log) {
   if (d.face_budget > 0) log->push_back(gdm::budget_summary(d));
   if (d.cavities > 0) log->push_back(gdm::cavity_summary(d));
   if (d.handles > 0) log->push_back(gdm::handle_summary(d));
+  if (d.topology == gdm::Topology::exact) log->push_back(gdm::topology_summary(d));
   if (d.quality_flips + d.quality_splits + d.quality_collapses + d.quality_moves > 0)
     log->push_back("triangle quality: " + std::to_string(d.quality_flips) + " flips, " +
                    std::to_string(d.quality_splits) + " splits, " + std::to_string(d.quality_collapses) +

@@ -185,6 +185,9 @@ void validate(const DeformOptions& o, const Volume& volume) {
   require(o.face_budget == 0 || !o.obstacle,
           "an obstacle needs face_budget 0 (the budget's collapses do not check obstacles)");
 
+  require(o.topology == Topology::solid || o.mode == Mode::shrink || o.fill_cavities,
+          "topology exact needs fill_cavities on (the cavities it models are those the fill finds)");
+
   if (volume.voxel_count() == 0) throw InvalidVolume("the volume is empty");
   if (!(volume.max_value() > volume.min_value()))
     throw InvalidVolume("the volume is constant (every voxel is " + num(volume.min_value()) +
@@ -1162,6 +1165,7 @@ DeformResult deform(Mesh& mesh, const Volume& volume, const DeformOptions& reque
     result.cavity_voxels += c.voxels;
   }
   result.cavity_volume = static_cast<double>(result.cavity_voxels) * volume.spacing().prod();
+  add_cavity_components(mesh, gated, fill, requested, result);  // topology exact (topology.h)
   return result;
 }
 

@@ -1,5 +1,6 @@
 // Topological and geometric checks and measurements on triangle meshes.
 #include "gdm/mesh_checks.h"
+#include "gdm/topology.h"
 
 #include <algorithm>
 #include <array>
@@ -278,6 +279,7 @@ MeshReport measure(const Mesh& mesh) {
   r.euler = euler_characteristic(mesh);
   r.genus = genus(mesh);
   r.components = connected_components(mesh);
+  r.euler_consistent = euler_consistent(r.euler - count_isolated_vertices(mesh), r.components, r.genus, r.closed);
   r.self_intersections = self_intersecting_pairs(mesh);
   r.volume = enclosed_volume(mesh);
   r.area = surface_area(mesh);

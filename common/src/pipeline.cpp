@@ -206,6 +206,13 @@ std::string failure_of(const DeformResult& r, const MeshReport& m, const DeformO
     return "the model breaks a guarantee (closed " + std::string(m.closed ? "yes" : "no") + ", manifold " +
            (m.two_manifold ? "yes" : "no") + ", " + std::to_string(m.self_intersections) +
            " self-intersecting face pairs, volume " + num(m.volume) + "): a bug, please report it";
+  // The genus and components against the Euler characteristic, and the
+  // components against what the topology built (topology.h).
+  const int expected = 1 + static_cast<int>(r.cavity_components);
+  if (!m.euler_consistent || (d.topology == Topology::exact && m.components != expected))
+    return "the model breaks a guarantee (chi " + std::to_string(m.euler) + ", genus " + std::to_string(m.genus) +
+           ", " + std::to_string(m.components) + " components, " + std::to_string(expected) +
+           " expected by the topology): a bug, please report it";
   return {};
 }
 

@@ -71,6 +71,7 @@ std::string summary_text(const RunRecord& r) {
   if (r.model.gap_closed_voxels > 0) s << "  " << gdm::gap_summary(r.model) << "\n";
   if (r.model.cavities > 0) s << "  " << gdm::cavity_summary(r.model) << "\n";
   if (r.model.handles > 0) s << "  " << gdm::handle_summary(r.model) << "\n";
+  if (r.model.topology == gdm::Topology::exact) s << "  " << gdm::topology_summary(r.model) << "\n";
   for (const std::string& line : gdm::describe_contacts(r.contacts)) s << "  " << line << "\n";
   s << "  closed " << (m.closed ? "yes" : "NO") << ", manifold " << (m.two_manifold ? "yes" : "NO") << ", genus "
     << m.genus << ", components " << m.components << ", self-intersections " << m.self_intersections << "\n"
@@ -174,6 +175,11 @@ std::string report_json(const RunRecord& r, const Options& options) {
       .add("cavity_opening_mm", json_number(r.model.cavity_opening_width))
       .add("handles", json_number(r.model.handles))
       .add("handle_voxels", json_number(r.model.handle_voxels))
+      .add("topology", json_string(gdm::to_string(r.model.topology)))
+      .add("handles_opened", json_number(r.model.handles_opened))
+      .add("cavity_components", json_number(r.model.cavity_components))
+      .add("cavity_component_faces", json_number(r.model.cavity_component_faces))
+      .add("cavities_not_modelled", json_number(r.model.cavities_not_modelled))
       .add("filled_regions", filled_regions_json(r.model))
       .add("seconds", json_number(r.model_seconds));
 
@@ -187,6 +193,7 @@ std::string report_json(const RunRecord& r, const Options& options) {
       .add("euler_characteristic", json_number(m.euler))
       .add("genus", json_number(m.genus))
       .add("components", json_number(m.components))
+      .add("euler_consistent", json_bool(m.euler_consistent))
       .add("self_intersections", json_number(m.self_intersections))
       .add("volume_mm3", json_number(m.volume))
       .add("volume_ml", json_number(m.volume / 1000.0))

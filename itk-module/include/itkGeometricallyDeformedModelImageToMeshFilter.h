@@ -10,6 +10,7 @@
 #include <limits>
 #include <ostream>
 #include <string>
+#include <vector>
 
 #include "itkGDMVolumeConversion.h" // first: loads ITK's Eigen before the gdm headers
 #include "itkImageToMeshFilter.h"
@@ -18,6 +19,7 @@
 #include "itkPoint.h"
 
 #include "gdm/deformer.h"
+#include "gdm/option_catalogue.h"
 
 // ITK 5.4 introduced itkOverrideGetNameOfClassMacro; provide it on older ITK.
 #ifndef itkOverrideGetNameOfClassMacro
@@ -346,6 +348,32 @@ public:
   itkGetConstMacro(FillCavities, bool);
   itkBooleanMacro(FillCavities);
 
+  /** The model's topology, growing: "solid" (default: one closed genus-0
+   * outer surface, cavities filled, handles capped) or "exact" (the data's
+   * topology: each enclosed cavity also its own closed component with normals
+   * into the cavity, each handle a tube through its hole; needs
+   * FillCavities). Throws
+   * itk::ExceptionObject for another name. */
+  void
+  SetTopology(const std::string & topology)
+  {
+    const auto & names = this->TopologyNames();
+    for (std::size_t i = 0; i < names.size(); ++i)
+    {
+      if (names[i] == topology)
+      {
+        this->SetOption("topology", static_cast<double>(i));
+        return;
+      }
+    }
+    itkExceptionMacro(<< "topology must be solid or exact, got " << topology);
+  }
+  std::string
+  GetTopology() const
+  {
+    return this->TopologyNames().at(static_cast<std::size_t>(this->GetOption("topology")));
+  }
+
   /** Sub-voxel final fit onto the threshold crossing (beyond the paper). */
   itkSetMacro(SubvoxelFit, bool);
   itkGetConstMacro(SubvoxelFit, bool);
@@ -440,6 +468,12 @@ public:
    * across the hole at its narrowest place (the model stays genus 0). */
   itkGetConstMacro(NumberOfCavitiesBehindNarrowOpenings, SizeValueType);
   itkGetConstMacro(NumberOfCappedHandles, SizeValueType);
+  /** With the exact topology, the enclosed cavities added as closed inward
+   * components; the output's genus and components (checked against its Euler
+   * characteristic). */
+  itkGetConstMacro(NumberOfCavityComponents, SizeValueType);
+  itkGetConstMacro(Genus, SizeValueType);
+  itkGetConstMacro(NumberOfComponents, SizeValueType);
   /** Where the model meets itself (two parts of the surface closer than a
    * voxel, facing each other): regions and their area (physical units^2).
    * A region across the object means the model grew around a cavity or a
@@ -484,6 +518,21 @@ public:
   GetOption(const std::string & name) const;
 
 protected:
+  /** The topology option's names, by value (the catalogue's). */
+  static const std::vector<std::string> &
+  TopologyNames()
+  {
+    for (const auto & option : gdm::deform_option_catalogue())
+    {
+      if (option.name == "topology")
+      {
+        return option.choices;
+      }
+    }
+    static const std::vector<std::string> none;
+    return none;
+  }
+
   GeometricallyDeformedModelImageToMeshFilter();
   ~GeometricallyDeformedModelImageToMeshFilter() override = default;
 
@@ -559,6 +608,9 @@ private:
   double        m_FilledCavityVolume{ 0.0 };
   SizeValueType m_NumberOfCavitiesBehindNarrowOpenings{ 0 };
   SizeValueType m_NumberOfCappedHandles{ 0 };
+  SizeValueType m_NumberOfCavityComponents{ 0 };
+  SizeValueType m_Genus{ 0 };
+  SizeValueType m_NumberOfComponents{ 0 };
   SizeValueType m_NumberOfContactRegions{ 0 };
   double        m_ContactArea{ 0.0 };
 

@@ -201,6 +201,9 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::GenerateD
   m_FilledCavityVolume = 0.0;
   m_NumberOfCavitiesBehindNarrowOpenings = 0;
   m_NumberOfCappedHandles = 0;
+  m_NumberOfCavityComponents = 0;
+  m_Genus = 0;
+  m_NumberOfComponents = 0;
   m_NumberOfContactRegions = 0;
   m_ContactArea = 0.0;
   this->SetCurrentCycleReport(gdm::CycleReport{});
@@ -294,6 +297,9 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::GenerateD
     m_FilledCavityVolume = result.cavity_volume;
     m_NumberOfCavitiesBehindNarrowOpenings = static_cast<SizeValueType>(result.cavities_behind_openings);
     m_NumberOfCappedHandles = static_cast<SizeValueType>(result.handles);
+    m_NumberOfCavityComponents = static_cast<SizeValueType>(result.cavity_components);
+    m_Genus = static_cast<SizeValueType>(std::max(0, pipelineResult.report.genus));
+    m_NumberOfComponents = static_cast<SizeValueType>(std::max(0, pipelineResult.report.components));
     m_NumberOfContactRegions = static_cast<SizeValueType>(pipelineResult.contacts.regions.size());
     m_ContactArea = pipelineResult.contacts.area;
 
@@ -392,6 +398,9 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::PrintSelf
   os << indent << "FilledCavityVolume: " << m_FilledCavityVolume << std::endl;
   os << indent << "NumberOfCavitiesBehindNarrowOpenings: " << m_NumberOfCavitiesBehindNarrowOpenings << std::endl;
   os << indent << "NumberOfCappedHandles: " << m_NumberOfCappedHandles << std::endl;
+  os << indent << "NumberOfCavityComponents: " << m_NumberOfCavityComponents << std::endl;
+  os << indent << "Genus: " << m_Genus << std::endl;
+  os << indent << "NumberOfComponents: " << m_NumberOfComponents << std::endl;
   os << indent << "NumberOfContactRegions: " << m_NumberOfContactRegions << std::endl;
   os << indent << "ContactArea: " << m_ContactArea << std::endl;
   os << indent << "CurrentCycle: " << m_CurrentCycle << std::endl;

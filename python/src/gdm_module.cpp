@@ -584,6 +584,7 @@ py::dict mesh_report(const gdm::Mesh& mesh, const gdm::MeshReport& r) {
   d["euler_characteristic"] = r.euler;
   d["genus"] = r.genus;
   d["components"] = r.components;
+  d["euler_consistent"] = r.euler_consistent;
   d["self_intersections"] = r.self_intersections;
   d["volume_mm3"] = r.volume;
   d["volume_ml"] = r.volume / 1000.0;
@@ -661,6 +662,11 @@ py::dict model_report(const gdm::DeformResult& r, double seconds) {
   d["cavity_opening_mm"] = r.cavity_opening_width;
   d["handles"] = r.handles;
   d["handle_voxels"] = r.handle_voxels;
+  d["topology"] = gdm::to_string(r.topology);
+  d["handles_opened"] = r.handles_opened;
+  d["cavity_components"] = r.cavity_components;
+  d["cavity_component_faces"] = r.cavity_component_faces;
+  d["cavities_not_modelled"] = r.cavities_not_modelled;
   // Each cavity, pocket behind narrow openings and handle cap, largest first.
   py::list regions;
   for (const gdm::Cavity& c : r.filled_regions) {

@@ -224,6 +224,40 @@ def test_a_torus_is_capped_across_its_hole():
     assert kept.report["contacts"]["regions"] > 0
 
 
+def test_topology_exact_follows_the_torus_and_the_cavity():
+    """topology="exact": a torus's cap becomes a tube through the hole (genus
+    1), a hollow ball's cavity its own inward component (2 components); the
+    report says so, and the genus and components agree with chi."""
+    rng = np.random.default_rng(15)
+    nx, nz, big, small = 44, 22, 12.0, 5.0
+    cx, cz = (nx - 1) / 2.0, (nz - 1) / 2.0
+    i, j, k = np.meshgrid(np.arange(nx) - cx, np.arange(nx) - cx, np.arange(nz) - cz, indexing="ij")
+    tube = np.hypot(np.hypot(i, j) - big, k) - small
+    torus = 50.0 + 150.0 * np.clip(0.5 - tube, 0.0, 1.0) + rng.normal(0.0, 7.5, tube.shape)
+    torus = np.asfortranarray(torus.astype(np.float32))
+    seed = (cx, cx - big, cz)
+    exact = gdm.extract_surface(torus, threshold=125, seed=seed, seed_radius=1.5, topology="exact")
+    mesh, model = exact.report["mesh"], exact.report["model"]
+    assert model["topology"] == "exact" and model["handles"] == 1 and model["handles_opened"] == 1
+    assert mesh["genus"] == 1 and mesh["components"] == 1 and mesh["euler_consistent"]
+    assert mesh["euler_characteristic"] == 0 and mesh["self_intersections"] == 0 and mesh["closed"]
+    solid = gdm.extract_surface(torus, threshold=125, seed=seed, seed_radius=1.5)
+    assert solid.report["mesh"]["genus"] == 0 and solid.report["model"]["topology"] == "solid"
+
+    n, inner, outer = 40, 11.0, 14.0
+    c = (n - 1) / 2.0
+    i, j, k = np.meshgrid(*(np.arange(n) - c,) * 3, indexing="ij")
+    r = np.sqrt(i * i + j * j + k * k)
+    shell = np.maximum(r - outer, inner - r)
+    ball = 50.0 + 150.0 * np.clip(0.5 - shell, 0.0, 1.0) + rng.normal(0.0, 7.5, shell.shape)
+    ball = np.asfortranarray(ball.astype(np.float32))
+    hollow = gdm.extract_surface(ball, threshold=125, seed=(c + 12.5, c, c), seed_radius=1.2, topology="exact")
+    assert hollow.report["model"]["cavity_components"] == 1
+    assert hollow.report["mesh"]["components"] == 2 and hollow.report["mesh"]["genus"] == 0
+    radii = np.linalg.norm(np.asarray(hollow.vertices) - c, axis=1)
+    assert (np.abs(radii - inner) < 1.0).sum() > 100 and (np.abs(radii - outer) < 1.0).sum() > 100
+
+
 def test_face_budget():
     """face_budget (the catalogue's keyword, the command's --faces): about
     that many faces (within 5 %), a valid surface, the report says what was

@@ -14,6 +14,7 @@
 #include "gdm/obstacle.h"
 #include "gdm/mesh.h"
 #include "gdm/optimizer.h"
+#include "gdm/topology.h"
 #include "gdm/volume.h"
 
 namespace gdm {
@@ -54,6 +55,11 @@ struct DeformOptions {
   bool cap_handles = true;           // with fill_cavities, a membrane across each handle's hole at its
                                      // narrowest place (cavities.h): a genus-0 model of a torus without
                                      // two fronts meeting across its tube; reported as a handle
+  Topology topology = Topology::solid;  // growing: solid = one genus-0 outer surface (cavities filled, handles
+                                        // capped); exact = the data's topology: each enclosed cavity also its
+                                        // own closed component with normals into the cavity, each handle's
+                                        // cap opened into a tube through the hole (genus up; topology.h);
+                                        // needs fill_cavities
   bool refine_channels = false;      // once the last stage converged, refine locally where faces are too
                                      // large to enter a channel the image shows (so the level of detail
                                      // sets face sizes, the gap where the model goes; inside, faces follow
@@ -152,6 +158,13 @@ struct DeformResult {
   std::size_t handles = 0;               // handles capped by a membrane across the hole (cap_handles), of at
                                          // least kCavitySpeckVoxels voxels
   std::size_t handle_voxels = 0;         // the membranes' voxels
+  Topology topology = Topology::solid;   // the topology the model was built with
+  std::size_t handles_opened = 0;        // exact: of `handles`, caps replaced by a tube through the hole
+                                         // (each raises the genus by one); the others stay caps
+  std::size_t cavity_components = 0;     // exact: enclosed cavities added as closed inward components
+  std::size_t cavity_component_faces = 0;  // their faces
+  std::size_t cavities_not_modelled = 0;   // exact: enclosed cavities left filled (too thin for a seed, their
+                                           // model failed, or it would have met the outer model)
   std::vector<Cavity> filled_regions;    // every cavity and membrane counted above (kind, voxels, centre,
                                          // openings), largest first
   std::size_t quality_flips = 0;      // edge flips of the triangle-quality pass
@@ -186,6 +199,11 @@ std::string cavity_summary(const DeformResult& result);
 // across its hole (the solid topology keeps the model genus 0): at (x, y, z)
 // mm, the hole 12 mm across there, 420 voxels". Empty when none.
 std::string handle_summary(const DeformResult& result);
+
+// What the exact topology did, for logs: "topology exact: 1 enclosed cavity
+// as its own closed component, normals into the cavity (1280 faces); 1 of 1
+// handle(s) opened into a tube through the hole (genus +1)". Empty for solid.
+std::string topology_summary(const DeformResult& result);
 
 // Checks the options against the volume; throws InvalidOption or InvalidVolume.
 void validate(const DeformOptions& options, const Volume& volume);

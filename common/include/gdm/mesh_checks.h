@@ -63,6 +63,7 @@ struct MeshReport {
   int euler = 0;
   int genus = 0;
   int components = 0;
+  bool euler_consistent = false;  // closed, and chi = 2 * components - 2 * genus (topology.h)
   std::size_t self_intersections = 0;
   double volume = 0.0;
   double area = 0.0;

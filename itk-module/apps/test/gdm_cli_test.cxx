@@ -1094,6 +1094,55 @@ TEST(Model, ATorusIsCappedAcrossItsHole) {
   EXPECT_EQ(json_value(slurp(dir / "open.json"), "handles"), 0.0);
 }
 
+// --topology exact (issue 15): a hollow shell's cavity becomes a second,
+// inward component and a torus's hole a tube (genus 1); the summary and the
+// report say so, and the mesh read back has that genus and those components.
+TEST(Model, TopologyExactFollowsTheData) {
+  const fs::path dir = work_dir();
+  namespace ph = gdm::phantoms;
+  ph::Grid grid;
+  grid.dims = {40, 40, 40};
+  const gdm::Vec3 c = grid.center();
+  write_phantom(ph::with_gaussian_noise(
+                    ph::voxelize(grid, ph::difference(ph::sphere(c, 14.0), ph::sphere(c, 11.0)), 50.0, 150.0), 7.5, 15u),
+                dir / "hollow.mha");
+  const std::string seed = std::to_string(c.x() + 12.5) + "," + std::to_string(c.y()) + "," + std::to_string(c.z());
+  const GdmRun h = run_gdm(dir, {"hollow.mha", "--threshold", "125", "--seed", seed, "--seed-radius", "1.2", "--topology",
+                                 "exact", "-o", "hollow.ply", "--report", "hollow.json"});
+  ASSERT_EQ(h.code, 0) << h.err;
+  EXPECT_NE(h.out.find("topology exact: 1 enclosed cavity as its own closed component"), std::string::npos) << h.out;
+  const std::string hj = slurp(dir / "hollow.json");
+  EXPECT_EQ(json_value(hj, "cavity_components"), 1.0);
+  EXPECT_EQ(json_value(hj, "components"), 2.0);
+  const gdm::MeshReport hm = measure(read_mesh(dir / "hollow.ply"));
+  EXPECT_EQ(hm.components, 2);
+  EXPECT_EQ(hm.genus, 0);
+  EXPECT_EQ(hm.self_intersections, 0u);
+  EXPECT_TRUE(hm.closed && hm.two_manifold);
+
+  ph::Grid tgrid;
+  tgrid.dims = {44, 44, 22};
+  const gdm::Vec3 t = tgrid.center();
+  const ph::Sdf torus = [t](const gdm::Vec3& p) {
+    return std::hypot(std::hypot(p.x() - t.x(), p.y() - t.y()) - 12.0, p.z() - t.z()) - 5.0;
+  };
+  write_phantom(ph::with_gaussian_noise(ph::voxelize(tgrid, torus, 50.0, 150.0), 7.5, 16u), dir / "torus_exact.mha");
+  const std::string tseed = std::to_string(t.x()) + "," + std::to_string(t.y() - 12.0) + "," + std::to_string(t.z());
+  const GdmRun r = run_gdm(dir, {"torus_exact.mha", "--threshold", "125", "--seed", tseed, "--seed-radius", "1.5",
+                                 "--topology", "exact", "-o", "torus_exact.ply", "--report", "torus_exact.json"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("1 of 1 handle(s) opened into a tube through the hole (genus +1)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("genus 1, components 1"), std::string::npos) << r.out;
+  const std::string tj = slurp(dir / "torus_exact.json");
+  EXPECT_EQ(json_value(tj, "handles_opened"), 1.0);
+  EXPECT_EQ(json_value(tj, "genus"), 1.0);
+  const gdm::MeshReport tm = measure(read_mesh(dir / "torus_exact.ply"));
+  EXPECT_EQ(tm.genus, 1);
+  EXPECT_EQ(tm.components, 1);
+  EXPECT_EQ(tm.self_intersections, 0u);
+  EXPECT_TRUE(tm.closed && tm.two_manifold);
+}
+
 // ------------------------------------------------------------- phantom --
 
 TEST(Phantom, GeneratorReproducesTheCommittedFile) {

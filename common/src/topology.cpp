@@ -1,0 +1,289 @@
+#include "gdm/topology.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <vector>
+
+#include "gdm/deformer.h"
+#include "gdm/errors.h"
+#include "gdm/mesh_checks.h"
+#include "gdm/seed.h"
+#include "gdm/distance_transform.h"
+
+namespace gdm {
+
+std::string to_string(Topology topology) {
+  return topology == Topology::exact ? "exact" : "solid";
+}
+
+bool euler_consistent(int euler, int components, int genus, bool closed) {
+  if (!closed || components < 1 || genus < 0) return false;
+  const int twice_genus = 2 * components - euler;
+  return twice_genus >= 0 && twice_genus % 2 == 0 && twice_genus / 2 == genus;
+}
+
+namespace {
+
+// Voxels are x fastest; 6-neighbour offsets.
+constexpr std::array<std::array<int, 3>, 6> kSix{{{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}}};
+
+struct Region {
+  std::vector<std::size_t> voxels;  // in raster order of discovery (breadth-first from the first)
+  Index3 lo{0, 0, 0}, hi{0, 0, 0};  // inclusive box
+};
+
+std::size_t linear(const Index3& n, int i, int j, int k) {
+  return static_cast<std::size_t>(i) + static_cast<std::size_t>(n[0]) * (static_cast<std::size_t>(j) +
+                                                                        static_cast<std::size_t>(n[1]) * static_cast<std::size_t>(k));
+}
+
+// The enclosed cavities the fill filled: 6-connected regions of background
+// that never touch the volume's border and whose every voxel was filled
+// (a region with an unfilled voxel is reached by the outside: a pocket behind
+// narrow openings, or background of another object). Raster order of their
+// first voxel.
+std::vector<Region> enclosed_regions(const Volume& volume, const Volume& filled, double t, bool brighter,
+                                     std::size_t* narrow_pockets) {
+  const Index3 n = volume.dims();
+  const std::vector<float>& v = volume.values();
+  const std::vector<float>& f = filled.values();
+  // Strictly on the background's side, as the fill counts it (a voxel at T is neither side there).
+  const auto background = [&](std::size_t i) { return brighter ? v[i] < t : v[i] > t; };
+  std::vector<char> seen(v.size(), 0);
+  std::vector<Region> regions;
+  std::vector<std::size_t> queue;
+  for (int k = 0; k < n[2]; ++k)
+    for (int j = 0; j < n[1]; ++j)
+      for (int i = 0; i < n[0]; ++i) {
+        const std::size_t start = linear(n, i, j, k);
+        if (seen[start] || v[start] == f[start] || !background(start)) continue;
+        Region r;
+        r.lo = r.hi = {i, j, k};
+        bool enclosed = true;
+        queue.assign(1, start);
+        seen[start] = 1;
+        for (std::size_t q = 0; q < queue.size(); ++q) {
+          const std::size_t at = queue[q];
+          const int x = static_cast<int>(at % n[0]);
+          const int y = static_cast<int>((at / n[0]) % n[1]);
+          const int z = static_cast<int>(at / (static_cast<std::size_t>(n[0]) * n[1]));
+          if (v[at] == f[at]) enclosed = false;  // background the fill left open
+          if (x == 0 || y == 0 || z == 0 || x == n[0] - 1 || y == n[1] - 1 || z == n[2] - 1) enclosed = false;
+          const Index3 p{x, y, z};
+          for (int a = 0; a < 3; ++a) {
+            r.lo[a] = std::min(r.lo[a], p[a]);
+            r.hi[a] = std::max(r.hi[a], p[a]);
+          }
+          for (const auto& d : kSix) {
+            const int xi = x + d[0], yi = y + d[1], zi = z + d[2];
+            if (xi < 0 || yi < 0 || zi < 0 || xi >= n[0] || yi >= n[1] || zi >= n[2]) continue;
+            const std::size_t next = linear(n, xi, yi, zi);
+            if (seen[next] || !background(next)) continue;
+            seen[next] = 1;
+            queue.push_back(next);
+          }
+        }
+        if (queue.size() < kCavitySpeckVoxels) continue;
+        if (!enclosed) {
+          // Filled voxels in a region the outside reaches: a pocket behind
+          // narrow openings (or a handle's membrane); left to `solid`.
+          bool any_filled = false;
+          for (std::size_t at : queue) any_filled = any_filled || v[at] != f[at];
+          if (any_filled && narrow_pockets) ++*narrow_pockets;
+          continue;
+        }
+        r.voxels = queue;
+        regions.push_back(std::move(r));
+      }
+  return regions;
+}
+
+// A box around the region with a margin, the region's voxels as they are and
+// every other voxel on the object's side of T (background outside the region
+// mirrored about T): the region is the only part of it on the cavity's side.
+// `centre` and `depth` (mm): the region's voxel farthest from every voxel
+// outside it (the first in raster order on ties), and that distance.
+Volume cavity_volume(const Volume& volume, const Region& r, double t, bool brighter, Vec3& centre, double& depth) {
+  const Index3 n = volume.dims();
+  constexpr int kMargin = 4;
+  Index3 lo, hi, m;
+  for (int a = 0; a < 3; ++a) {
+    lo[a] = std::max(0, r.lo[a] - kMargin);
+    hi[a] = std::min(n[a] - 1, r.hi[a] + kMargin);
+    m[a] = hi[a] - lo[a] + 1;
+  }
+  std::vector<char> inside(static_cast<std::size_t>(m[0]) * m[1] * m[2], 0);
+  for (std::size_t at : r.voxels) {
+    const int x = static_cast<int>(at % n[0]) - lo[0];
+    const int y = static_cast<int>((at / n[0]) % n[1]) - lo[1];
+    const int z = static_cast<int>(at / (static_cast<std::size_t>(n[0]) * n[1])) - lo[2];
+    inside[linear(m, x, y, z)] = 1;
+  }
+  {
+    std::vector<char> sites(inside.size());
+    for (std::size_t i = 0; i < inside.size(); ++i) sites[i] = inside[i] ? 0 : 1;
+    const std::vector<double> d2 = squared_distance_to(sites, m, volume.spacing());
+    std::size_t best = 0;
+    double deepest = -1.0;
+    for (std::size_t i = 0; i < d2.size(); ++i)
+      if (inside[i] && d2[i] > deepest) deepest = d2[i], best = i;
+    depth = std::sqrt(std::max(0.0, deepest));
+    const Vec3 at(static_cast<double>(lo[0] + static_cast<int>(best % m[0])),
+                  static_cast<double>(lo[1] + static_cast<int>((best / m[0]) % m[1])),
+                  static_cast<double>(lo[2] + static_cast<int>(best / (static_cast<std::size_t>(m[0]) * m[1]))));
+    centre = volume.to_physical(at);
+  }
+  // The smallest step past T on the object's side, for background exactly at T.
+  const double range = std::max(1e-6, volume.max_value() - volume.min_value());
+  const double nudge = (brighter ? 1.0 : -1.0) * 1e-3 * range;
+  std::vector<float> values(inside.size());
+  for (int k = 0; k < m[2]; ++k)
+    for (int j = 0; j < m[1]; ++j)
+      for (int i = 0; i < m[0]; ++i) {
+        const std::size_t here = linear(m, i, j, k);
+        const double value = volume.at(lo[0] + i, lo[1] + j, lo[2] + k);
+        const bool object = brighter ? value > t : value < t;
+        double out = value;
+        if (!inside[here] && !object) {
+          out = 2.0 * t - value;
+          if (!(brighter ? out > t : out < t)) out = t + nudge;
+        }
+        values[here] = static_cast<float>(out);
+      }
+  Volume cavity(m, std::move(values), volume.spacing(), volume.to_physical(Vec3(lo[0], lo[1], lo[2])),
+                volume.direction());
+  // Past the box counts as the object (the cavity's background).
+  cavity.set_outside_value(t + (brighter ? 1.0 : -1.0) * range);
+  return cavity;
+}
+
+// Appends `part` to `mesh` with every face reversed (normals into the cavity).
+void append_reversed(Mesh& mesh, const Mesh& part) {
+  std::vector<Mesh::VertexHandle> map(part.n_vertices());
+  const OpenMesh::VPropHandleT<int> to = find_generation_property(mesh);
+  const OpenMesh::VPropHandleT<int> from = find_generation_property(part);
+  for (auto v : part.vertices()) {
+    map[v.idx()] = mesh.add_vertex(part.point(v));
+    if (to.is_valid()) mesh.property(to, map[v.idx()]) = from.is_valid() ? part.property(from, v) : 0;
+  }
+  for (auto f : part.faces()) {
+    std::array<Mesh::VertexHandle, 3> t;
+    int c = 0;
+    for (auto v : part.fv_range(f)) t[c++] = map[v.idx()];
+    mesh.add_face(t[0], t[2], t[1]);
+  }
+}
+
+}  // namespace
+
+CavitySurfaces add_cavity_surfaces(
+    Mesh& mesh, const CavitySurfaceInput& input,
+    const std::function<bool(Mesh& seed, const Volume& cavity_volume, Polarity cavity_polarity)>& grow) {
+  CavitySurfaces out;
+  if (!input.volume || !input.fill || !input.fill->applied) return out;
+  const Volume& volume = *input.volume;
+  const double t = input.threshold;
+  const bool brighter = input.polarity == Polarity::object_brighter;
+  std::vector<Region> regions = enclosed_regions(volume, input.fill->volume, t, brighter, &out.narrow_pockets);
+  // Largest first; ties keep raster order.
+  std::stable_sort(regions.begin(), regions.end(),
+                   [](const Region& a, const Region& b) { return a.voxels.size() > b.voxels.size(); });
+  const Polarity cavity_polarity = brighter ? Polarity::object_darker : Polarity::object_brighter;
+  const std::size_t baseline = regions.empty() ? 0 : self_intersecting_pairs(mesh);
+  for (const Region& r : regions) {
+    Vec3 centre;
+    double depth = 0.0;
+    const Volume cavity = cavity_volume(volume, r, t, brighter, centre, depth);
+    if (depth < 1.5 * volume.voxel_size()) {
+      ++out.not_modelled;  // no voxel off the cavity's wall: too thin for a seed
+      continue;
+    }
+    Mesh part = make_geodesic_sphere(centre, 0.5 * depth, 1);
+    if (!grow(part, cavity, cavity_polarity) ||
+        (input.max_faces > 0 && out.added_faces + part.n_faces() > input.max_faces)) {
+      ++out.not_modelled;
+      continue;
+    }
+    Mesh joined = mesh;
+    append_reversed(joined, part);
+    if (self_intersecting_pairs(joined) > baseline) {  // the cavity's model meets the outer one
+      ++out.not_modelled;
+      continue;
+    }
+    mesh = std::move(joined);
+    ++out.added;
+    out.added_faces += part.n_faces();
+  }
+  return out;
+}
+
+void add_cavity_components(Mesh& mesh, const Volume& volume, const CavityFill& fill, const DeformOptions& options,
+                           DeformResult& result) {
+  result.topology = options.topology;
+  if (options.topology != Topology::exact || options.mode != Mode::grow || !fill.applied) return;
+  if (result.reason != StopReason::converged) return;
+  if (result.handles > 0) {
+    // Each cap opened into a tube, fitted to the hole's wall by one more run
+    // (no global refinement: the model is at its level of detail already).
+    Mesh opened = mesh;
+    const OpenedHandles h = open_handles(opened, volume, fill);
+    if (h.opened > 0) {
+      DeformOptions o = options;
+      o.topology = Topology::solid;
+      o.fill_cavities = false;  // h.volume holds the fill without the opened membranes
+      o.global_refinements = 0;
+      o.gap = 0.0;              // the gate's volume is `volume` already
+      const DeformResult r = deform(opened, h.volume, o);
+      if (r.reason == StopReason::converged && r.border_vertices <= result.border_vertices) {
+        mesh = std::move(opened);
+        result.handles_opened = h.opened;
+        result.cycles += r.cycles;
+        result.rejected_moves += r.rejected_moves;
+        result.faces_below_min_angle = r.faces_below_min_angle;
+        result.float_refused += r.float_refused;
+      }
+    }
+  }
+  CavitySurfaceInput input;
+  input.volume = &volume;
+  input.fill = &fill;
+  input.threshold = options.threshold;
+  input.polarity = options.polarity;
+  input.max_faces = options.max_faces > mesh.n_faces() ? options.max_faces - mesh.n_faces() : 1;
+  const CavitySurfaces s = add_cavity_surfaces(mesh, input, [&](Mesh& seed, const Volume& cavity, Polarity polarity) {
+    DeformOptions o = options;
+    o.polarity = polarity;
+    o.topology = Topology::solid;
+    o.face_budget = 0;        // the budget is the outer model's
+    o.stop_at_border = true;  // the box's border lies outside the cavity: reaching it is a leak
+    o.gap = 0.0;
+    o.global_refinements = options.global_refinements;
+    const DeformResult r = deform(seed, cavity, o);
+    return r.reason == StopReason::converged && r.border_vertices == 0;
+  });
+  result.cavity_components = s.added;
+  result.cavity_component_faces = s.added_faces;
+  result.cavities_not_modelled = s.not_modelled;
+  result.faces = mesh.n_faces();
+}
+
+std::string topology_summary(const DeformResult& r) {
+  if (r.topology != Topology::exact) return {};
+  std::string s = "topology exact: " + std::to_string(r.cavity_components) + " enclosed cavit" +
+                  (r.cavity_components == 1 ? "y" : "ies") + " as its own closed component, normals into the cavity (" +
+                  std::to_string(r.cavity_component_faces) + " faces)";
+  if (r.cavities_not_modelled > 0)
+    s += "; " + std::to_string(r.cavities_not_modelled) + " enclosed cavit" +
+         (r.cavities_not_modelled == 1 ? "y" : "ies") + " left filled (too thin, or its model failed or met the outer one)";
+  if (r.cavities_behind_openings > 0)
+    s += "; " + std::to_string(r.cavities_behind_openings) +
+         " pocket(s) behind narrow openings filled as in solid (not enclosed)";
+  if (r.handles > 0)
+    s += "; " + std::to_string(r.handles_opened) + " of " + std::to_string(r.handles) +
+         " handle(s) opened into a tube through the hole (genus +" + std::to_string(r.handles_opened) + ")" +
+         (r.handles_opened < r.handles ? ", the others capped as in solid" : "");
+  return s;
+}
+
+}  // namespace gdm
