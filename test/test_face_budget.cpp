@@ -24,6 +24,7 @@
 #include "gdm/seed.h"
 #include "anisotropic_ellipsoid.h"
 #include "mesh_expectations.h"
+#include "phantom_case.h"
 #include "surface_samples.h"
 
 using namespace gdm;
@@ -31,15 +32,9 @@ namespace ph = gdm::phantoms;
 
 namespace {
 
-constexpr double kBackground = 50.0, kContrast = 150.0;
-constexpr double kThreshold = kBackground + 0.5 * kContrast;
-
-struct Case {
-  std::string name;
-  Volume volume;
-  std::function<double(const Vec3&)> distance;  // to the analytic surface, mm
-  Vec3 seed;
-};
+constexpr double kBackground = test::kPhantomBackground, kContrast = test::kPhantomContrast;
+constexpr double kThreshold = test::kPhantomThreshold;
+using Case = test::PhantomCase;
 
 Case ellipsoid(double noise) {
   const auto e = test::anisotropic_ellipsoid();

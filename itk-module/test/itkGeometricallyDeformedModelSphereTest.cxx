@@ -407,4 +407,23 @@ TEST(itkGDMSphere, AHandleIsCappedAcrossItsHole)
   const auto open = run(false);
   EXPECT_EQ(open->GetNumberOfCappedHandles(), 0u);
   EXPECT_GT(open->GetNumberOfContactRegions(), 0u);
+  // The data's own topology: the cap opens into a tube through the hole.
+  EXPECT_EQ(capped->GetTopology(), "solid");
+  EXPECT_EQ(capped->GetGenus(), 0u);
+  auto exact = FilterType::New();
+  exact->SetInput(image);
+  exact->SetThreshold(125.0);
+  FilterType::PointType seed;
+  seed[0] = c;
+  seed[1] = c - R;
+  seed[2] = cz;
+  exact->SetSeedCenter(seed);
+  exact->SetSeedRadius(1.5);
+  exact->SetTopology("exact");
+  exact->Update();
+  EXPECT_EQ(exact->GetTopology(), "exact");
+  EXPECT_EQ(exact->GetGenus(), 1u);
+  EXPECT_EQ(exact->GetNumberOfComponents(), 1u);
+  EXPECT_EQ(exact->GetNumberOfCavityComponents(), 0u);
+  EXPECT_THROW(exact->SetTopology("porous"), itk::ExceptionObject);
 }
