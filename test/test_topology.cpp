@@ -223,6 +223,35 @@ TEST(Topology, two_cavities_two_inward_components_for_any_thread_count) {
   EXPECT_LE(small.mean, 0.15);
 }
 
+// The extra runs of the exact topology (each cavity's model, each opened
+// handle's fit) report their cycles to the observer and stop when it says so:
+// cancelled at the first cycle after the outer model, deform() says
+// cancelled and leaves the outer model as it was, whole and valid.
+TEST(Topology, the_extra_runs_can_be_cancelled) {
+  ph::Grid grid;
+  grid.dims = {40, 40, 40};
+  const Volume v = hollow_sphere(grid, 11.0, 14.0, 0.05, 21u);
+  const Vec3 seed = grid.center() + Vec3(12.5, 0.0, 0.0);
+  int solid_calls = 0, exact_calls = 0;
+  Mesh solid = make_geodesic_sphere(seed, 1.2, 1);
+  const DeformResult s = deform(solid, v, grow(Topology::solid), [&](const CycleReport&) { return ++solid_calls > 0; });
+  Mesh exact = make_geodesic_sphere(seed, 1.2, 1);
+  const DeformResult e = deform(exact, v, grow(Topology::exact), [&](const CycleReport&) { return ++exact_calls > 0; });
+  ASSERT_EQ(e.cavity_components, 1u) << topology_summary(e);
+  ASSERT_GT(exact_calls, solid_calls) << "the cavity's own model reports its cycles";
+
+  int calls = 0;
+  Mesh cancelled = make_geodesic_sphere(seed, 1.2, 1);
+  const DeformResult c =
+      deform(cancelled, v, grow(Topology::exact), [&](const CycleReport&) { return ++calls <= solid_calls; });
+  EXPECT_EQ(c.reason, StopReason::cancelled) << to_string(c.reason);
+  EXPECT_EQ(calls, solid_calls + 1) << "no cycle runs after the cancel";
+  EXPECT_EQ(c.cavity_components, 0u);
+  test::expect_same_mesh(cancelled, solid);
+  test::expect_valid_closed_surface(cancelled);
+  EXPECT_EQ(s.reason, StopReason::converged);
+}
+
 // The pipeline checks the components against the topology and reports them.
 TEST(Topology, the_pipeline_reports_the_components) {
   ph::Grid grid;

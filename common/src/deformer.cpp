@@ -1165,7 +1165,7 @@ DeformResult deform(Mesh& mesh, const Volume& volume, const DeformOptions& reque
     result.cavity_voxels += c.voxels;
   }
   result.cavity_volume = static_cast<double>(result.cavity_voxels) * volume.spacing().prod();
-  add_cavity_components(mesh, gated, fill, requested, result);  // topology exact (topology.h)
+  add_cavity_components(mesh, gated, fill, requested, result, observer);  // topology exact (topology.h)
   return result;
 }
 

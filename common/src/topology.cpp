@@ -219,7 +219,7 @@ CavitySurfaces add_cavity_surfaces(
 }
 
 void add_cavity_components(Mesh& mesh, const Volume& volume, const CavityFill& fill, const DeformOptions& options,
-                           DeformResult& result) {
+                           DeformResult& result, const DeformObserver& observer) {
   result.topology = options.topology;
   if (options.topology != Topology::exact || options.mode != Mode::grow || !fill.applied) return;
   if (result.reason != StopReason::converged) return;
@@ -234,7 +234,12 @@ void add_cavity_components(Mesh& mesh, const Volume& volume, const CavityFill& f
       o.fill_cavities = false;  // h.volume holds the fill without the opened membranes
       o.global_refinements = 0;
       o.gap = 0.0;              // the gate's volume is `volume` already
-      const DeformResult r = deform(opened, h.volume, o);
+      const DeformResult r = deform(opened, h.volume, o, observer);
+      if (r.reason == StopReason::cancelled) {
+        result.reason = StopReason::cancelled;
+        result.cycles += r.cycles;
+        return;
+      }
       if (r.reason == StopReason::converged && r.border_vertices <= result.border_vertices) {
         mesh = std::move(opened);
         result.handles_opened = h.opened;
@@ -251,6 +256,7 @@ void add_cavity_components(Mesh& mesh, const Volume& volume, const CavityFill& f
   input.threshold = options.threshold;
   input.polarity = options.polarity;
   input.max_faces = options.max_faces > mesh.n_faces() ? options.max_faces - mesh.n_faces() : 1;
+  bool cancelled = false;  // a cavity's run was cancelled: no further cavity is grown
   const CavitySurfaces s = add_cavity_surfaces(mesh, input, [&](Mesh& seed, const Volume& cavity, Polarity polarity) {
     DeformOptions o = options;
     o.polarity = polarity;
@@ -259,9 +265,12 @@ void add_cavity_components(Mesh& mesh, const Volume& volume, const CavityFill& f
     o.stop_at_border = true;  // the box's border lies outside the cavity: reaching it is a leak
     o.gap = 0.0;
     o.global_refinements = options.global_refinements;
-    const DeformResult r = deform(seed, cavity, o);
+    if (cancelled) return false;
+    const DeformResult r = deform(seed, cavity, o, observer);
+    cancelled = r.reason == StopReason::cancelled;
     return r.reason == StopReason::converged && r.border_vertices == 0;
   });
+  if (cancelled) result.reason = StopReason::cancelled;
   result.cavity_components = s.added;
   result.cavity_component_faces = s.added_faces;
   result.cavities_not_modelled = s.not_modelled;

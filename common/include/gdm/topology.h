@@ -30,6 +30,8 @@ namespace gdm {
 
 struct DeformOptions;
 struct DeformResult;
+struct CycleReport;
+using DeformObserver = std::function<bool(const CycleReport&)>;  // as in deformer.h
 
 enum class Topology {
   solid,  // one closed genus-0 surface: the object's outer surface, cavities filled, handles capped
@@ -94,8 +96,11 @@ OpenedHandles open_handles(Mesh& mesh, const Volume& volume, const CavityFill& f
 // with `options` (the cavity's polarity, solid, no face budget); counts into
 // `result` (handles_opened, cavity_components, cavity_component_faces,
 // cavities_not_modelled, faces). Nothing for solid, for shrink or when the outer model did not converge.
+// Every extra run reports its cycles to `observer`; when the observer cancels
+// one (a time limit, an aborted filter), the model is left as it was before
+// that run and result.reason is StopReason::cancelled.
 void add_cavity_components(Mesh& mesh, const Volume& volume, const CavityFill& fill, const DeformOptions& options,
-                           DeformResult& result);
+                           DeformResult& result, const DeformObserver& observer = {});
 
 // The genus and components a closed orientable mesh has by its Euler
 // characteristic: chi = 2 * components - 2 * genus. False when the numbers
