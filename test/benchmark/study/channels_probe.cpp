@@ -5,7 +5,7 @@
 // study's report.
 //
 //   gdm_channels_probe --data ../shared/data --case ct-phantom|mri-skin|tooth-pulp|tooth-outer
-//                      [--channels on|off] [--threads N] [--lod A] [--out PREFIX] [--trace]
+//                      [--channels on|off] [--fill-cavities on|off] [--cap-handles on|off] [--threads N] [--lod A] [--out PREFIX] [--trace]
 //
 // --out writes PREFIX-<case>-<0|1>.ply and the volume as PREFIX-<case>.raw (a
 // text line "nx ny nz sx sy sz ox oy oz", then floats); --trace prints the
@@ -28,7 +28,7 @@
 int main(int argc, char** argv) {
   std::string data = "../shared/data", only = "ct-phantom", out;
   int channels = -1, threads = 0;
-  bool trace = false;
+  bool trace = false, fill = true, caps = true;
   double lod = 0.0;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -40,6 +40,8 @@ int main(int argc, char** argv) {
     else if (a == "--lod") lod = std::stod(value());
     else if (a == "--out") out = value();
     else if (a == "--trace") trace = true;
+    else if (a == "--fill-cavities") fill = value() == "on";
+    else if (a == "--cap-handles") caps = value() == "on";
   }
   study::CaseSet set = study::scan_cases(data);
   for (const study::Case& c : set.cases) {
@@ -64,6 +66,8 @@ int main(int argc, char** argv) {
       o.threads = threads;
       o.gap = c.gap;
       o.refine_channels = on;
+      o.fill_cavities = fill;
+      o.cap_handles = caps;
       if (lod > 0.0) o.lod_face_area = lod;
       gdm::Mesh mesh = study::seed_mesh(c, 0);
       const auto t0 = std::chrono::steady_clock::now();
@@ -92,6 +96,17 @@ int main(int argc, char** argv) {
       for (double x : d) { mean += x; far += x > 2.0 ? 1 : 0; }
       std::printf("  truth->model mean %.3f p95 %.3f max %.2f voxels, %.2f %% of truth points beyond 2 voxels\n", mean / d.size(),
                   d[d.size() * 95 / 100], d.back(), 100.0 * far / d.size());
+      // The other way: the model's vertices to the marching-cubes surface.
+      // Where the model caps a handle or closes a filled cavity it is off
+      // that surface by design (topology solid).
+      const gdm::TriangleLocator reference(truth);
+      std::vector<double> m;
+      for (auto v : mesh.vertices()) m.push_back(reference.distance(gdm::to_eigen(mesh.point(v))) / volume.voxel_size());
+      std::sort(m.begin(), m.end());
+      double mm = 0.0;
+      for (double x : m) mm += x;
+      std::printf("  model->truth mean %.3f p95 %.3f max %.2f voxels (vertices); %zu handles, %zu cavities filled\n",
+                  mm / m.size(), m[m.size() * 95 / 100], m.back(), r.handles, r.cavities);
       std::fflush(stdout);
       if (!out.empty()) gdm::write_mesh(mesh, out + "-" + c.id + "-" + std::to_string(on) + ".ply");
     }
