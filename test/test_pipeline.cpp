@@ -14,6 +14,7 @@
 #include "gdm/phantoms.h"
 #include "gdm/pipeline.h"
 #include "gdm/seed.h"
+#include "gdm/seeding.h"
 
 namespace {
 
@@ -55,6 +56,44 @@ TEST(Pipeline, otsu_and_automatic_seed_find_a_noisy_sphere) {
   const auto d = phantoms::vertex_distances(
       r.mesh, [&](const Vec3& p) { return (p - grid.center()).norm() - radius; }, 0.8);
   EXPECT_LT(d.mean, 1.0);
+}
+
+// A shell four voxels thick (a hollow ball, a vessel wall, a skull) at
+// Otsu's T and the automatic seed, noise 3 and 8 %: the deepest voxel is a
+// voxel from the contour, and half of that (half a voxel) was a seed smaller
+// than the optimiser's steps: it ended "converged" at its own size, exit 0.
+// The seed is now at least three quarters of a voxel and the model reaches
+// the shell's outer sphere; a smaller seed radius is refused by name.
+TEST(Pipeline, the_automatic_seed_grows_in_a_thin_shell) {
+  for (const double noise : {0.03, 0.08}) {
+    phantoms::Grid grid;
+    grid.dims = {48, 48, 48};
+    grid.spacing = Vec3(0.8, 0.8, 0.8);
+    const Vec3 c = grid.center();
+    const Volume shell = phantoms::with_gaussian_noise(
+        phantoms::voxelize(grid, phantoms::difference(phantoms::sphere(c, 12.8), phantoms::sphere(c, 9.6)), 50.0, 150.0),
+        noise * 150.0, 17u);
+    PipelineOptions o;
+    o.threshold_otsu = false;
+    o.threshold = 125.0;
+    const PipelineResult r = extract_surface(shell, o);
+    ASSERT_TRUE(r.failure.empty()) << r.failure;
+    EXPECT_EQ(r.choices.seed_source, "auto");
+    EXPECT_GE(r.choices.seed_radius, kMinGrowingSeedRadius * shell.voxel_size() - 1e-12);
+    const auto d = phantoms::vertex_distances(r.mesh, [&](const Vec3& p) { return (p - c).norm() - 12.8; }, 0.8);
+    EXPECT_LT(d.mean, 0.15) << "noise " << noise << ": the model is not the shell's outer sphere";
+    EXPECT_LT(d.max, 1.0) << "noise " << noise;
+
+    o.seed.kind = SeedKind::point;
+    o.seed.point = r.choices.seed_center;
+    o.seed.radius = 0.5 * shell.voxel_size();
+    try {
+      extract_surface(shell, o);
+      ADD_FAILURE() << "a seed of half a voxel was accepted";
+    } catch (const InvalidOption& e) {
+      EXPECT_NE(std::string(e.what()).find("seed_radius 0.4 mm is below 0.75 voxel"), std::string::npos) << e.what();
+    }
+  }
 }
 
 TEST(Pipeline, same_mesh_as_deform_with_the_same_seed) {

@@ -252,6 +252,24 @@ TEST(Topology, the_extra_runs_can_be_cancelled) {
   EXPECT_EQ(s.reason, StopReason::converged);
 }
 
+// A cavity's model that the outer model does not enclose is no cavity of
+// it: with a seed of half a voxel the outer model stays at its seed's size
+// (the pipeline refuses such seeds; deform() is called directly here), and
+// the model grown in the shell's cavity, larger than it, is not added. Before,
+// it was: two components, a negative total volume.
+TEST(Topology, a_cavity_model_the_outer_model_does_not_enclose_is_not_added) {
+  ph::Grid grid;
+  grid.dims = {40, 40, 40};
+  const Volume v = hollow_sphere(grid, 11.0, 14.0, 0.05, 23u);
+  Mesh mesh = make_geodesic_sphere(grid.center() + Vec3(12.5, 0.0, 0.0), 0.4, 1);
+  const DeformResult r = deform(mesh, v, grow(Topology::exact));
+  EXPECT_EQ(r.cavity_components, 0u) << topology_summary(r);
+  EXPECT_EQ(r.cavities_not_modelled, 1u) << topology_summary(r);
+  const MeshReport m = measure(mesh);
+  EXPECT_EQ(m.components, 1) << to_string(m);
+  EXPECT_GT(m.volume, 0.0) << to_string(m);
+}
+
 // The pipeline checks the components against the topology and reports them.
 TEST(Topology, the_pipeline_reports_the_components) {
   ph::Grid grid;

@@ -181,9 +181,10 @@ Mesh choose_seed(const Volume& input, const Volume& volume, const PipelineOption
       return mesh;
     }
   }
-  if (!(radius >= 0.1 * volume.voxel_size()))
-    throw InvalidOption("seed_radius", "seed_radius " + num(radius) + " mm is below a tenth of a voxel (" +
-                                           num(0.1 * volume.voxel_size()) + " mm): the seed would be degenerate");
+  if (!(radius >= kMinGrowingSeedRadius * volume.voxel_size()))
+    throw InvalidOption("seed_radius", "seed_radius " + num(radius) + " mm is below " + num(kMinGrowingSeedRadius) +
+                                           " voxel (" + num(kMinGrowingSeedRadius * volume.voxel_size()) +
+                                           " mm): a seed smaller than the model's smallest steps does not grow");
   choices.seed_center = center;
   choices.seed_radius = radius;
   Mesh sphere = make_geodesic_sphere(center, radius, s.level);
@@ -192,7 +193,8 @@ Mesh choose_seed(const Volume& input, const Volume& volume, const PipelineOption
 }
 
 // Why the result is not the object, or empty.
-std::string failure_of(const DeformResult& r, const MeshReport& m, const DeformOptions& d, bool allow_border) {
+std::string failure_of(const DeformResult& r, const MeshReport& m, const DeformOptions& d, bool allow_border,
+                       double seed_volume) {
   const bool darker = d.polarity == Polarity::object_darker;
   if (r.border_vertices > 0 && !allow_border)
     return "the model reached the volume border (" + std::to_string(r.border_vertices) +
@@ -206,6 +208,13 @@ std::string failure_of(const DeformResult& r, const MeshReport& m, const DeformO
     return "the model breaks a guarantee (closed " + std::string(m.closed ? "yes" : "no") + ", manifold " +
            (m.two_manifold ? "yes" : "no") + ", " + std::to_string(m.self_intersections) +
            " self-intersecting face pairs, volume " + num(m.volume) + "): a bug, please report it";
+  // A growing model that ends no larger than its seed did not grow: nothing
+  // in it is the object's surface (a seed too small for the optimiser's
+  // steps, or held by the guard from the first cycle).
+  if (d.mode == Mode::grow && r.reason == StopReason::converged && seed_volume > 0.0 &&
+      !(m.volume > 1.01 * seed_volume))
+    return "the model did not grow from its seed (volume " + num(m.volume) + " mm^3, the seed's " + num(seed_volume) +
+           " mm^3): try a larger seed radius or another seed";
   // The genus and components against the Euler characteristic, and the
   // components against what the topology built (topology.h).
   const int expected = 1 + static_cast<int>(r.cavity_components);
@@ -349,7 +358,9 @@ PipelineResult run_model(const PreparedModel& p, const PipelineObserver& observe
                 std::to_string(r.deform.cycles) + " cycles with " + std::to_string(r.mesh.n_faces()) + " faces";
   } else if (r.deform.reason != StopReason::cancelled) {
     r.report = measure(r.mesh);
-    r.failure = failure_of(r.deform, r.report, p.deform, p.allow_border);
+    // A sphere's volume; a seed mesh may be larger than the object (local flip).
+    const double seed_volume = p.choices.seed_source == "mesh" ? 0.0 : enclosed_volume(p.seed);
+    r.failure = failure_of(r.deform, r.report, p.deform, p.allow_border, seed_volume);
     if (r.failure.empty()) {
       const Volume& volume = *p.volume;
       const double t = p.deform.threshold;

@@ -147,7 +147,11 @@ AutoSeed find_auto_seed(const Volume& volume, double threshold, Polarity polarit
                       " the threshold (" + std::to_string(best_size) +
                       " voxels) has no interior voxel: it is too thin for a seed");
   seed.depth = best;
-  seed.radius = 0.5 * best;
+  // Half the depth, but never below kMinGrowingSeedRadius voxels (seeding.h)
+  // while the depth allows: a seed smaller than the optimiser's smallest steps
+  // (a quarter to one voxel, section 3.2) does not grow. The depth is measured
+  // to the region's contour voxels, which lie inside the object themselves.
+  seed.radius = std::max(0.5 * best, std::min(best, kMinGrowingSeedRadius * volume.voxel_size()));
   seed.center = volume.to_physical(Vec3(seed.index[0], seed.index[1], seed.index[2]));
   return seed;
 }

@@ -175,6 +175,22 @@ void append_reversed(Mesh& mesh, const Mesh& part) {
   }
 }
 
+// How many times the closed mesh winds around p: the sum of its faces' signed
+// solid angles over 4 pi (van Oosterom and Strackee's formula for a
+// triangle's solid angle). 1 inside a closed outward surface, 0 outside.
+double winding_number(const Mesh& mesh, const Vec3& p) {
+  double total = 0.0;
+  for (auto f : mesh.faces()) {
+    auto it = mesh.cfv_iter(f);
+    const Vec3 a = to_eigen(mesh.point(*it)) - p, b = to_eigen(mesh.point(*++it)) - p, c = to_eigen(mesh.point(*++it)) - p;
+    const double la = a.norm(), lb = b.norm(), lc = c.norm();
+    const double numerator = a.dot(b.cross(c));
+    const double denominator = la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb;
+    total += 2.0 * std::atan2(numerator, denominator);
+  }
+  return total / (4.0 * M_PI);
+}
+
 }  // namespace
 
 CavitySurfaces add_cavity_surfaces(
@@ -202,6 +218,13 @@ CavitySurfaces add_cavity_surfaces(
     Mesh part = make_geodesic_sphere(centre, 0.5 * depth, 1);
     if (!grow(part, cavity, cavity_polarity) ||
         (input.max_faces > 0 && out.added_faces + part.n_faces() > input.max_faces)) {
+      ++out.not_modelled;
+      continue;
+    }
+    // Inside the outer model, or it is no cavity of the model: an outer model
+    // that did not reach the object's surface (held at its seed) encloses
+    // nothing. The two are free of crossings below, so one vertex tells.
+    if (part.n_vertices() == 0 || std::abs(winding_number(mesh, to_eigen(part.point(*part.vertices_begin())))) < 0.5) {
       ++out.not_modelled;
       continue;
     }

@@ -1351,7 +1351,7 @@ TEST(Hostile, AbsurdValuesAreRefusedBeforeTheRun) {
   expect_failure(dir, {"--seed-level", "5"}, 2, "--seed-level: must be in [0, 4], got 5");
   expect_failure(dir, {"--seed-index", "1e20,0,0"}, 2, "--seed-index: needs integer voxel indices (at most 1e9)");
   expect_failure(dir, {"--roi", "0,0,0,1e20,5,5"}, 2, "--roi: needs non-negative integer voxel indices");
-  expect_failure(dir, {"--seed-radius", "1e-300"}, 2, "--seed-radius: 1e-300 mm is below a tenth of a voxel");
+  expect_failure(dir, {"--seed-radius", "1e-300"}, 2, "--seed-radius: 1e-300 mm is below 0.75 voxel");
   expect_refused(dir, {"-o", "no-such-folder/m.ply"}, 5, "the folder no-such-folder of the output does not exist");
 }
 
