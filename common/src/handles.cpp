@@ -13,8 +13,6 @@
 #include <limits>
 #include <map>
 #include <vector>
-#include <cstdio>
-#include <cstdlib>
 
 #include "gdm/mesh_checks.h"
 #include "gdm/topology.h"
@@ -209,8 +207,10 @@ std::vector<double> arclength(const std::vector<Vec3>& loop) {
 }
 
 // Stitches two boundary loops (each in its boundary halfedges' direction) by
-// a band: each step adds the triangle with the shorter new diagonal, the
-// second loop walked backwards, starting from the pair of closest vertices.
+// a band: each step adds the triangle with the shorter new diagonal (or,
+// by_arclength, the one that keeps the two loops' arclength fractions
+// closest), the second loop walked backwards, starting from the pair of
+// closest vertices.
 // The new faces are returned (invalid handles when OpenMesh refused one).
 std::vector<Mesh::FaceHandle> stitch(Mesh& mesh, const std::vector<int>& a, std::vector<int> b, bool by_arclength) {
   const auto p = [&](int v) { return to_eigen(mesh.point(mesh.vertex_handle(v))); };
@@ -266,7 +266,6 @@ Vec3 along(const std::vector<Vec3>& loop, const std::vector<double>& at, double 
   return loop[i - 1] + f * (loop[i % loop.size()] - loop[i - 1]);
 }
 
-
 // The tube between two boundary loops: rings of new vertices, each at the
 // same fraction of the straight way from `a` to `b` (matched by arclength,
 // `b` walked backwards from its vertex nearest a[0]), as many as make the
@@ -312,11 +311,10 @@ bool tube(Mesh& mesh, const std::vector<int>& a, const std::vector<int>& b, doub
     // stitch() walks its second loop backwards: hand it the ring reversed.
     const std::vector<int> reversed(ring.rbegin(), ring.rend());
     const std::vector<Mesh::FaceHandle> faces = stitch(mesh, previous, reversed, pull > 0.0);
-    if (faces.empty() || !std::all_of(faces.begin(), faces.end(), [](auto h) { return h.is_valid(); })) { if (std::getenv("GDM_DEBUG_TOPO")) fprintf(stderr, "DEBUG ring %d of %d refused after %zu faces, n %zu\n", k, rings, faces.size(), n); return false; }
+    if (faces.empty() || !std::all_of(faces.begin(), faces.end(), [](auto h) { return h.is_valid(); })) return false;
     previous = ring;
   }
   const std::vector<Mesh::FaceHandle> faces = stitch(mesh, previous, b, pull > 0.0);
-  if (std::getenv("GDM_DEBUG_TOPO")) fprintf(stderr, "DEBUG last stitch %zu faces of %zu + %zu, rings %d\n", faces.size(), previous.size(), b.size(), rings);
   return !faces.empty() && std::all_of(faces.begin(), faces.end(), [](auto h) { return h.is_valid(); });
 }
 
@@ -332,15 +330,13 @@ bool opened_by_tube(Mesh& trial, const std::vector<int>& first, const std::vecto
   trial.request_face_status();
   for (const auto& patch : {first, second})
     for (int f : patch) trial.delete_face(trial.face_handle(f), true);
-  if (!tube(trial, a, b, pull)) { if (std::getenv("GDM_DEBUG_TOPO")) fprintf(stderr, "DEBUG pull %.1f tube refused\n", pull); return false; }
+  if (!tube(trial, a, b, pull)) return false;
   trial.garbage_collection();
   trial.release_vertex_status();
   trial.release_edge_status();
   trial.release_halfedge_status();
   trial.release_face_status();
-  const bool ok = is_closed(trial) && is_two_manifold(trial) && self_intersecting_pairs(trial) <= baseline;
-  if (std::getenv("GDM_DEBUG_TOPO")) fprintf(stderr, "DEBUG pull %.1f ok %d si %zu\n", pull, (int)ok, self_intersecting_pairs(trial));
-  return ok;
+  return is_closed(trial) && is_two_manifold(trial) && self_intersecting_pairs(trial) <= baseline;
 }
 
 }  // namespace
@@ -358,7 +354,6 @@ OpenedHandles open_handles(Mesh& mesh, const Volume& volume, const CavityFill& f
   for (std::size_t h = 0; h < handles.size(); ++h) {
     const int id = static_cast<int>(h) + 1;
     std::vector<std::vector<int>> patches = patches_of(mesh, face_label, id);
-    if (std::getenv("GDM_DEBUG_TOPO")) { fprintf(stderr, "DEBUG patches %zu:", patches.size()); for (auto& q : patches) fprintf(stderr, " %zu", q.size()); fprintf(stderr, "\n"); }
     if (patches.size() < 2 || patches[1].size() < 3) {
       ++out.kept_caps;
       continue;
@@ -366,7 +361,6 @@ OpenedHandles open_handles(Mesh& mesh, const Volume& volume, const CavityFill& f
     close_patch(mesh, patches[0]);
     close_patch(mesh, patches[1]);
     const std::vector<int> a = disc_boundary(mesh, patches[0]), b = disc_boundary(mesh, patches[1]);
-    if (std::getenv("GDM_DEBUG_TOPO")) fprintf(stderr, "DEBUG loops %zu %zu\n", a.size(), b.size());
     if (a.size() < 3 || b.size() < 3) {
       ++out.kept_caps;
       continue;

@@ -4,8 +4,6 @@
 #include <array>
 #include <cmath>
 #include <vector>
-#include <cstdio>
-#include <cstdlib>
 
 #include "gdm/deformer.h"
 #include "gdm/errors.h"
@@ -230,7 +228,6 @@ void add_cavity_components(Mesh& mesh, const Volume& volume, const CavityFill& f
     // (no global refinement: the model is at its level of detail already).
     Mesh opened = mesh;
     const OpenedHandles h = open_handles(opened, volume, fill);
-    if (std::getenv("GDM_DEBUG_TOPO")) fprintf(stderr, "DEBUG open_handles opened %zu kept %zu\n", h.opened, h.kept_caps);
     if (h.opened > 0) {
       DeformOptions o = options;
       o.topology = Topology::solid;
@@ -238,7 +235,6 @@ void add_cavity_components(Mesh& mesh, const Volume& volume, const CavityFill& f
       o.global_refinements = 0;
       o.gap = 0.0;              // the gate's volume is `volume` already
       const DeformResult r = deform(opened, h.volume, o);
-      if (std::getenv("GDM_DEBUG_TOPO")) fprintf(stderr, "DEBUG opened %zu kept %zu rerun %s cycles %d border %zu vs %zu\n", h.opened, h.kept_caps, to_string(r.reason).c_str(), r.cycles, r.border_vertices, result.border_vertices);
       if (r.reason == StopReason::converged && r.border_vertices <= result.border_vertices) {
         mesh = std::move(opened);
         result.handles_opened = h.opened;
