@@ -211,8 +211,11 @@ TEST(Cavities, a_wall_between_the_seed_object_and_another_is_no_cavity) {
   EXPECT_LE(d.mean, 0.15) << "mean " << d.mean;
 }
 
-// Shrinking needs no fill: a box shrinks onto the outer surface from outside.
-TEST(Cavities, shrinking_fills_nothing) {
+// Shrinking, the fill is the same as growing (issue 15, "the same for
+// shrink"): the enclosed cavity is filled and reported, never reached from
+// outside, and the model is the outer sphere. (Before, shrinking filled
+// nothing; the cavity was not reported.)
+TEST(Cavities, shrinking_fills_as_growing_does) {
   ph::Grid grid;
   grid.dims = {40, 40, 40};
   const Vec3 c = grid.center();
@@ -221,8 +224,12 @@ TEST(Cavities, shrinking_fills_nothing) {
   o.mode = Mode::shrink;
   Mesh mesh = make_geodesic_sphere(c, 18.0, 2);
   const DeformResult r = deform(mesh, v, o);
-  EXPECT_EQ(r.cavities, 0u);
+  EXPECT_EQ(r.cavities, 1u) << cavity_summary(r);
+  EXPECT_GT(r.cavity_voxels, 1500u);  // 4/3 pi 8^3 = 2,145 voxels
   test::expect_valid_closed_surface(mesh);
+  const ph::DistanceStats d =
+      ph::vertex_distances(mesh, [&](const Vec3& p) { return (p - c).norm() - 14.0; }, v.voxel_size());
+  EXPECT_LE(d.mean, 0.1);
 }
 
 // A solid torus lying in the plane z = c.z: a tube of radius r around the
@@ -539,10 +546,12 @@ TEST(Cavities, the_tooth_shrunk_onto_from_outside_is_its_outer_surface) {
   const ph::DistanceStats s = ph::distance_stats(d);
   std::printf("tooth shrunk onto: %zu faces, contacts %.1f of %.1f mm^2, to filled marching cubes mean %.3f p95 %.3f "
               "max %.3f voxels\n", mesh.n_faces(), contacts, area, s.mean, s.p95, s.max);
-  // Measured: 37,352 faces, contacts 1,487 of 38,653 mm^2 (the box seed
-  // before: 16,250 of 80,912 mm^2, 2,384 regions), mean 0.91 voxel. The far
-  // vertices (about a tenth, more than 1.5 voxels away) all lie between the
-  // roots: the shrinking model spans the furcation instead of entering it.
+  std::printf("%s\n%s\n", cavity_summary(r).c_str(), handle_summary(r).c_str());
+  // Measured before the shrinking fill (issue 15): 37,352 faces, contacts
+  // 1,487 of 38,653 mm^2 (the box seed before: 16,250 of 80,912 mm^2, 2,384
+  // regions), mean 0.91 voxel. The far vertices (about a tenth, more than 1.5
+  // voxels away) all lie between the roots: the shrinking model spans the
+  // furcation instead of entering it.
   EXPECT_LT(contacts, 0.05 * area);
   EXPECT_LE(s.mean, 1.0);
 }

@@ -143,6 +143,7 @@ class CavityFinder {
  private:
   bool is_background(std::size_t c) const { return sign_ * (volume_.values()[c] - o_.threshold) > 0.0; }
   bool object_of_the_seed(std::vector<char>& object, Index3& lo, Index3& hi) const;
+  bool every_component(std::vector<char>& object, Index3& lo, Index3& hi) const;
   void make_box(const std::vector<char>& object, const Index3& lo, const Index3& hi);
   std::vector<char> reached_by_paths(const std::vector<char>& blocked) const;
   std::vector<char> reached_by_balls(const std::vector<float>& d2) const;
@@ -179,6 +180,7 @@ class CavityFinder {
 // closed bottle the model grows inside) is not, nor the wall between them.
 bool CavityFinder::object_of_the_seed(std::vector<char>& object, Index3& lo, Index3& hi) const {
   object.assign(full_.count(), 0);
+  if (o_.every_component) return every_component(object, lo, hi);
   std::vector<std::size_t> stack;
   for (const Vec3& p : o_.seed_points) {
     const Vec3 c = volume_.to_continuous_index(p);
@@ -204,6 +206,40 @@ bool CavityFinder::object_of_the_seed(std::vector<char>& object, Index3& lo, Ind
     for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], v[a]), hi[a] = std::max(hi[a], v[a]);
   }
   return true;
+}
+
+// Shrinking (CavityOptions::every_component): every voxel on the object's
+// side of T within the box around the seed points (clipped to the volume).
+// The seed of a shrinking model lies round the object, in the background, so
+// no seed point names a region; the model closes round all it encloses, and
+// background enclosed by one component or reachable only through a handle of
+// several (two roots joined at their tips) is what it cannot enter.
+bool CavityFinder::every_component(std::vector<char>& object, Index3& lo, Index3& hi) const {
+  Index3 from = full_.n, to{-1, -1, -1};
+  for (const Vec3& p : o_.seed_points) {
+    const Vec3 c = volume_.to_continuous_index(p);
+    for (int a = 0; a < 3; ++a) {
+      if (!std::isfinite(c[a])) return false;
+      const double lower = std::clamp(std::floor(c[a]), -1.0, static_cast<double>(full_.n[a]));
+      const double upper = std::clamp(std::ceil(c[a]), -1.0, static_cast<double>(full_.n[a]));
+      from[a] = std::min(from[a], std::max(0, static_cast<int>(lower)));
+      to[a] = std::max(to[a], std::min(full_.n[a] - 1, static_cast<int>(upper)));
+    }
+  }
+  lo = full_.n;
+  hi = {-1, -1, -1};
+  bool any = false;
+  for (int k = from[2]; k <= to[2]; ++k)
+    for (int j = from[1]; j <= to[1]; ++j)
+      for (int i = from[0]; i <= to[0]; ++i) {
+        const std::size_t c = full_.index(i, j, k);
+        if (is_background(c)) continue;
+        object[c] = 1;
+        any = true;
+        const Index3 v{i, j, k};
+        for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], v[a]), hi[a] = std::max(hi[a], v[a]);
+      }
+  return any;
 }
 
 void CavityFinder::make_box(const std::vector<char>& object, const Index3& lo, const Index3& hi) {

@@ -185,7 +185,7 @@ void validate(const DeformOptions& o, const Volume& volume) {
   require(o.face_budget == 0 || !o.obstacle,
           "an obstacle needs face_budget 0 (the budget's collapses do not check obstacles)");
 
-  require(o.topology == Topology::solid || o.mode == Mode::shrink || o.fill_cavities,
+  require(o.topology == Topology::solid || o.fill_cavities,
           "topology exact needs fill_cavities on (the cavities it models are those the fill finds)");
 
   if (volume.voxel_count() == 0) throw InvalidVolume("the volume is empty");
@@ -1099,9 +1099,10 @@ PassageGate gate_for(const Mesh& mesh, const Volume& volume, const DeformOptions
 // The cavity fill (cavities.h) of the volume the model grows in, seeded by
 // the model's vertices and centroid.
 CavityFill cavities_for(const Mesh& mesh, const Volume& volume, const DeformOptions& o) {
-  if (!o.fill_cavities || o.mode != Mode::grow) return {};
+  if (!o.fill_cavities) return {};
   CavityOptions c;
   c.seed_points = seed_points(mesh);
+  c.every_component = o.mode == Mode::shrink;  // a shrinking seed lies round the object (cavities.h)
   c.threshold = o.threshold;
   c.background_is_brighter = o.polarity == Polarity::object_darker;
   c.gap = o.gap;
@@ -1147,7 +1148,7 @@ DeformResult deform(Mesh& mesh, const Volume& volume, const DeformOptions& reque
   DeformResult result = Deformer(mesh, fill.applied ? fill.volume : gated, volume, options, observer).run();
   result.gap_closed_voxels = gate.closed_voxels;
   result.gap_reachable_voxels = gate.reachable_voxels;
-  if (fill.opening > 0.0 && options.fill_cavities && options.mode == Mode::grow)
+  if (fill.opening > 0.0 && options.fill_cavities)
     result.cavity_opening_width = fill.opening;
   for (const Cavity& c : fill.cavities) {  // largest first
     if (c.voxels < kCavitySpeckVoxels) {

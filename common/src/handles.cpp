@@ -199,11 +199,20 @@ std::vector<int> disc_boundary(const Mesh& mesh, const std::vector<int>& patch) 
   return loop;
 }
 
+// Cumulative arclength of a closed polyline: at[0] = 0, at[n] = its length.
+std::vector<double> arclength(const std::vector<Vec3>& loop) {
+  std::vector<double> at(loop.size() + 1, 0.0);
+  for (std::size_t i = 0; i < loop.size(); ++i) at[i + 1] = at[i] + (loop[(i + 1) % loop.size()] - loop[i]).norm();
+  return at;
+}
+
 // Stitches two boundary loops (each in its boundary halfedges' direction) by
-// a band: each step adds the triangle with the shorter new diagonal, the
-// second loop walked backwards, starting from the pair of closest vertices.
+// a band: each step adds the triangle with the shorter new diagonal (or,
+// by_arclength, the one that keeps the two loops' arclength fractions
+// closest), the second loop walked backwards, starting from the pair of
+// closest vertices.
 // The new faces are returned (invalid handles when OpenMesh refused one).
-std::vector<Mesh::FaceHandle> stitch(Mesh& mesh, const std::vector<int>& a, std::vector<int> b) {
+std::vector<Mesh::FaceHandle> stitch(Mesh& mesh, const std::vector<int>& a, std::vector<int> b, bool by_arclength) {
   const auto p = [&](int v) { return to_eigen(mesh.point(mesh.vertex_handle(v))); };
   std::reverse(b.begin(), b.end());
   std::size_t shift = 0;
@@ -214,12 +223,26 @@ std::vector<Mesh::FaceHandle> stitch(Mesh& mesh, const std::vector<int>& a, std:
   }
   std::rotate(b.begin(), b.begin() + static_cast<long>(shift), b.end());
   const std::size_t n = a.size(), m = b.size();
+  // By arclength: each loop's vertices at their fraction of its length from
+  // the start pair, merged in that order (never a fan round one vertex, when
+  // the loops differ much in size).
+  const auto fractions = [&](const std::vector<int>& loop) {
+    std::vector<Vec3> points;
+    for (int v : loop) points.push_back(p(v));
+    std::vector<double> at = arclength(points);
+    for (double& x : at) x = at.back() > 0.0 ? x / at.back() : 0.0;
+    return at;
+  };
+  const std::vector<double> fa = by_arclength ? fractions(a) : std::vector<double>{};
+  const std::vector<double> fb = by_arclength ? fractions(b) : std::vector<double>{};
   std::vector<Mesh::FaceHandle> faces;
   std::size_t i = 0, j = 0;
   const auto vh = [&](int v) { return mesh.vertex_handle(v); };
   while (i < n || j < m) {
     const int ui = a[i % n], un = a[(i + 1) % n], wj = b[j % m], wn = b[(j + 1) % m];
-    const bool advance_a = j >= m || (i < n && (p(un) - p(wj)).squaredNorm() <= (p(ui) - p(wn)).squaredNorm());
+    const bool advance_a =
+        j >= m || (i < n && (by_arclength ? fa[i + 1] <= fb[j + 1]
+                                          : (p(un) - p(wj)).squaredNorm() <= (p(ui) - p(wn)).squaredNorm()));
     if (advance_a) {
       faces.push_back(mesh.add_face(vh(ui), vh(un), vh(wj)));
       ++i;
@@ -243,21 +266,15 @@ Vec3 along(const std::vector<Vec3>& loop, const std::vector<double>& at, double 
   return loop[i - 1] + f * (loop[i % loop.size()] - loop[i - 1]);
 }
 
-// Cumulative arclength of a closed polyline: at[0] = 0, at[n] = its length.
-std::vector<double> arclength(const std::vector<Vec3>& loop) {
-  std::vector<double> at(loop.size() + 1, 0.0);
-  for (std::size_t i = 0; i < loop.size(); ++i) at[i + 1] = at[i] + (loop[(i + 1) % loop.size()] - loop[i]).norm();
-  return at;
-}
-
 // The tube between two boundary loops: rings of new vertices, each at the
 // same fraction of the straight way from `a` to `b` (matched by arclength,
 // `b` walked backwards from its vertex nearest a[0]), as many as make the
 // tube's edges about as long as the loops' own; then the loops and rings
 // stitched in turn. The rings lie in the solid model's inside (between the
 // membrane's two rims), where the next deformation moves them onto the
-// hole's wall. False when OpenMesh refused a face.
-bool tube(Mesh& mesh, const std::vector<int>& a, const std::vector<int>& b) {
+// hole's wall; `pull` draws each ring that fraction of the way toward the
+// line between the loops' centroids. False when OpenMesh refused a face.
+bool tube(Mesh& mesh, const std::vector<int>& a, const std::vector<int>& b, double pull) {
   const auto p = [&](int v) { return to_eigen(mesh.point(mesh.vertex_handle(v))); };
   std::vector<Vec3> pa, pb;
   for (int v : a) pa.push_back(p(v));
@@ -279,19 +296,47 @@ bool tube(Mesh& mesh, const std::vector<int>& a, const std::vector<int>& b) {
     widest = std::max(widest, (to[i] - from[i]).norm());
   }
   const int rings = edge > 0.0 ? std::max(0, static_cast<int>(std::ceil(widest / edge)) - 1) : 0;
+  Vec3 ca = Vec3::Zero(), cb = Vec3::Zero();
+  for (const Vec3& q : pa) ca += q / static_cast<double>(pa.size());
+  for (const Vec3& q : pb) cb += q / static_cast<double>(pb.size());
   std::vector<int> previous = a;
   for (int k = 1; k <= rings; ++k) {
     const double f = static_cast<double>(k) / static_cast<double>(rings + 1);
+    const Vec3 axis = ca + f * (cb - ca);
     std::vector<int> ring;
-    for (std::size_t i = 0; i < n; ++i) ring.push_back(mesh.add_vertex(to_point(from[i] + f * (to[i] - from[i]))).idx());
+    for (std::size_t i = 0; i < n; ++i) {
+      const Vec3 q = from[i] + f * (to[i] - from[i]);
+      ring.push_back(mesh.add_vertex(to_point(q + pull * (axis - q))).idx());
+    }
     // stitch() walks its second loop backwards: hand it the ring reversed.
     const std::vector<int> reversed(ring.rbegin(), ring.rend());
-    const std::vector<Mesh::FaceHandle> faces = stitch(mesh, previous, reversed);
+    const std::vector<Mesh::FaceHandle> faces = stitch(mesh, previous, reversed, pull > 0.0);
     if (faces.empty() || !std::all_of(faces.begin(), faces.end(), [](auto h) { return h.is_valid(); })) return false;
     previous = ring;
   }
-  const std::vector<Mesh::FaceHandle> faces = stitch(mesh, previous, b);
+  const std::vector<Mesh::FaceHandle> faces = stitch(mesh, previous, b, pull > 0.0);
   return !faces.empty() && std::all_of(faces.begin(), faces.end(), [](auto h) { return h.is_valid(); });
+}
+
+// Replaces the two patches of `trial` by a tube between their boundary
+// loops `a` and `b` (rings drawn `pull` of the way toward the axis); true
+// when the result is closed, 2-manifold and has no more intersecting face
+// pairs than `baseline`.
+bool opened_by_tube(Mesh& trial, const std::vector<int>& first, const std::vector<int>& second,
+                    const std::vector<int>& a, const std::vector<int>& b, double pull, std::size_t baseline) {
+  trial.request_vertex_status();
+  trial.request_edge_status();
+  trial.request_halfedge_status();
+  trial.request_face_status();
+  for (const auto& patch : {first, second})
+    for (int f : patch) trial.delete_face(trial.face_handle(f), true);
+  if (!tube(trial, a, b, pull)) return false;
+  trial.garbage_collection();
+  trial.release_vertex_status();
+  trial.release_edge_status();
+  trial.release_halfedge_status();
+  trial.release_face_status();
+  return is_closed(trial) && is_two_manifold(trial) && self_intersecting_pairs(trial) <= baseline;
 }
 
 }  // namespace
@@ -320,25 +365,22 @@ OpenedHandles open_handles(Mesh& mesh, const Volume& volume, const CavityFill& f
       ++out.kept_caps;
       continue;
     }
-    Mesh trial = mesh;
-    trial.request_vertex_status();
-    trial.request_edge_status();
-    trial.request_halfedge_status();
-    trial.request_face_status();
-    for (const auto& patch : {patches[0], patches[1]})
-      for (int f : patch) trial.delete_face(trial.face_handle(f), true);
-    const bool stitched = tube(trial, a, b);
-    if (!stitched) {
-      trial.release_face_status();
-      ++out.kept_caps;
-      continue;
+    // The straight tube first (rings on the way from rim to rim); when it
+    // meets the model (a shrunk model's rims are not always matched well
+    // enough), rings drawn toward the hole's axis, inside the membrane,
+    // where no face of the model lies: the next deformation carries them
+    // onto the wall either way.
+    Mesh trial;
+    bool done = false;
+    for (const double pull : {0.0, 0.4, 0.7}) {
+      Mesh attempt(mesh);  // a fresh copy: status flags of an earlier attempt do not carry over
+      if (opened_by_tube(attempt, patches[0], patches[1], a, b, pull, baseline)) {
+        trial = std::move(attempt);
+        done = true;
+        break;
+      }
     }
-    trial.garbage_collection();
-    trial.release_vertex_status();
-    trial.release_edge_status();
-    trial.release_halfedge_status();
-    trial.release_face_status();
-    if (!is_closed(trial) || !is_two_manifold(trial) || self_intersecting_pairs(trial) > baseline) {
+    if (!done) {
       ++out.kept_caps;
       continue;
     }

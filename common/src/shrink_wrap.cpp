@@ -61,6 +61,9 @@ DeformOptions model_options(const WrapOptions& w) {
   // No triangle-quality pass inside the wrap's deformations: the fairing of
   // the vertices over holes runs after them; the wrap runs its own pass last.
   o.min_angle = 0.0;
+  // The wrap's field is an offset of the input, its own bridging decides
+  // what is spanned: no cavity fill nor handle caps (cavities.h) on it.
+  o.fill_cavities = false;
   return o;
 }
 

@@ -244,7 +244,7 @@ CavitySurfaces add_cavity_surfaces(
 void add_cavity_components(Mesh& mesh, const Volume& volume, const CavityFill& fill, const DeformOptions& options,
                            DeformResult& result, const DeformObserver& observer) {
   result.topology = options.topology;
-  if (options.topology != Topology::exact || options.mode != Mode::grow || !fill.applied) return;
+  if (options.topology != Topology::exact || !fill.applied) return;
   if (result.reason != StopReason::converged) return;
   if (result.handles > 0) {
     // Each cap opened into a tube, fitted to the hole's wall by one more run
@@ -282,6 +282,7 @@ void add_cavity_components(Mesh& mesh, const Volume& volume, const CavityFill& f
   bool cancelled = false;  // a cavity's run was cancelled: no further cavity is grown
   const CavitySurfaces s = add_cavity_surfaces(mesh, input, [&](Mesh& seed, const Volume& cavity, Polarity polarity) {
     DeformOptions o = options;
+    o.mode = Mode::grow;  // from a seed in the cavity, when the outer model shrank too
     o.polarity = polarity;
     o.topology = Topology::solid;
     o.face_budget = 0;        // the budget is the outer model's

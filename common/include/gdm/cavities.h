@@ -62,6 +62,10 @@ struct CavityOptions {
                                      // the hole); 0 = 3.5 voxels
   std::vector<Vec3> seed_points;     // mm: the object the model grows in is the 6-connected object
                                      // region of those that lie on the object's side of T
+  bool every_component = false;      // the object is every voxel on its side of T inside the box around
+                                     // seed_points (all its components), not only the seed's region: a
+                                     // model shrinking from outside (section 5's duality) has no point
+                                     // inside the object, and it meets every component its seed encloses
 };
 
 // The ball diameter (mm) the fill uses for "reach" with these options on this grid: the larger of

@@ -42,11 +42,12 @@ struct DeformOptions {
                                      // rolls from the seed (passage.h): openings narrower than G are
                                      // bridged, channels wider are followed; 0 (or up to two voxels) =
                                      // no gate, every channel two voxels wide is open
-  bool fill_cavities = true;         // growing, background the outside cannot reach (a hollow shell's
-                                     // inside; chambers joined to the outside only through openings
-                                     // narrower than cavity_opening) is given to the object first
-                                     // (cavities.h): the model is the outer surface, with no
-                                     // double-walled sheet around the cavity
+  bool fill_cavities = true;         // background the outside cannot reach (a hollow shell's inside;
+                                     // chambers joined to the outside only through openings narrower
+                                     // than cavity_opening) is given to the object first (cavities.h):
+                                     // the model is the outer surface, with no double-walled sheet
+                                     // around the cavity. Shrinking, the object is every voxel on its
+                                     // side of T inside the seed's box (CavityOptions::every_component)
   double cavity_opening = 0.0;       // W, mm: with fill_cavities, a pocket of background the outside
                                      // reaches only through openings narrower than a ball of diameter W
                                      // (and wider inside) is filled: the tooth's pulp behind canals one
@@ -55,7 +56,7 @@ struct DeformOptions {
   bool cap_handles = true;           // with fill_cavities, a membrane across each handle's hole at its
                                      // narrowest place (cavities.h): a genus-0 model of a torus without
                                      // two fronts meeting across its tube; reported as a handle
-  Topology topology = Topology::solid;  // growing: solid = one genus-0 outer surface (cavities filled, handles
+  Topology topology = Topology::solid;  // grow or shrink: solid = one genus-0 outer surface (cavities filled, handles
                                         // capped); exact = the data's topology: each enclosed cavity also its
                                         // own closed component with normals into the cavity, each handle's
                                         // cap opened into a tube through the hole (genus up; topology.h);

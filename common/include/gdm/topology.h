@@ -88,14 +88,16 @@ struct OpenedHandles {
 // the model closed, 2-manifold and free of new self-intersections are made.
 OpenedHandles open_handles(Mesh& mesh, const Volume& volume, const CavityFill& fill);
 
-// deform()'s last step with the exact topology, growing: the enclosed cavities
+// deform()'s last step with the exact topology: the enclosed cavities
 // of `fill` (computed on `volume`, the volume the outer model grew in) added
 // to `mesh` by add_cavity_surfaces, and each handle's cap opened into a tube
 // (open_handles, then deform() again on the volume without those membranes,
 // no global refinement; reverted when that run does not converge), each cavity's model grown by deform()
 // with `options` (the cavity's polarity, solid, no face budget); counts into
 // `result` (handles_opened, cavity_components, cavity_component_faces,
-// cavities_not_modelled, faces). Nothing for solid, for shrink or when the outer model did not converge.
+// cavities_not_modelled, faces). Shrinking, the same: the opened model is
+// deformed again in shrink mode, and each cavity's model grows from a seed
+// in the cavity. Nothing for solid or when the outer model did not converge.
 // Every extra run reports its cycles to `observer`; when the observer cancels
 // one (a time limit, an aborted filter), the model is left as it was before
 // that run and result.reason is StopReason::cancelled.
