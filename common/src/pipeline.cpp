@@ -348,7 +348,8 @@ PipelineResult run_model(const PreparedModel& p, const PipelineObserver& observe
     r.failure = "the model ran out of time (time_limit " + num(p.time_limit) + " s) after " +
                 std::to_string(r.deform.cycles) + " cycles with " + std::to_string(r.mesh.n_faces()) + " faces";
   } else if (r.deform.reason != StopReason::cancelled) {
-    r.report = measure(r.mesh);
+    const auto checks = std::chrono::steady_clock::now();
+    r.report = measure(r.mesh, p.deform.threads);
     r.failure = failure_of(r.deform, r.report, p.deform, p.allow_border);
     if (r.failure.empty()) {
       const Volume& volume = *p.volume;
@@ -359,6 +360,7 @@ PipelineResult run_model(const PreparedModel& p, const PipelineObserver& observe
         return brighter ? v > t : v < t;
       });
     }
+    r.check_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - checks).count();
   } else {
     r.failure = "cancelled";
   }

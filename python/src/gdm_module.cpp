@@ -683,6 +683,19 @@ py::dict model_report(const gdm::DeformResult& r, double seconds) {
   }
   d["filled_regions"] = regions;
   d["seconds"] = seconds;
+  // Where the time went, wall seconds per step (gdm::StageSeconds).
+  py::dict stages;
+  stages["gap_gate"] = r.seconds.gap_gate;
+  stages["cavity_fill"] = r.seconds.cavity_fill;
+  stages["growth"] = r.seconds.growth;
+  stages["global_refinement"] = r.seconds.refinement;
+  stages["refined_stages"] = r.seconds.refined_stages;
+  stages["fit"] = r.seconds.fit;
+  stages["error_lod"] = r.seconds.error_lod;
+  stages["triangle_quality"] = r.seconds.quality;
+  stages["float_snap"] = r.seconds.float_snap;
+  stages["topology"] = r.seconds.topology;
+  d["stage_seconds"] = stages;
   return d;
 }
 
