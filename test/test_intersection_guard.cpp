@@ -192,3 +192,52 @@ TEST(IntersectionGuard, decisions_equal_a_brute_force_check_of_all_faces) {
     EXPECT_EQ(guard.statistics().rejected_moves, static_cast<std::size_t>(rejected)) << c.name;
   }
 }
+
+TEST(IntersectionGuard, decisions_stay_exact_across_prepare_moves_with_moves_and_flips_between) {
+  // Rounds of random moves (each vertex within the margin of where the round
+  // began) and flips; prepare_moves() between rounds looks only at the faces
+  // of the moves and flips it allowed: every decision must still equal the
+  // brute-force check, far more rounds than a rebuild would be needed.
+  Mesh mesh = make_geodesic_sphere(Vec3(-1, 0.5, 2), 2.0, 2);
+  const double margin = 0.3;
+  IntersectionGuard guard(mesh, margin, kMinArea);
+  std::vector<Vec3> anchor;
+  for (auto v : mesh.vertices()) anchor.push_back(to_eigen(mesh.point(v)));
+  std::mt19937 rng(4242);
+  std::uniform_int_distribution<int> pick(0, static_cast<int>(mesh.n_vertices()) - 1);
+  std::uniform_int_distribution<int> pick_edge(0, static_cast<int>(mesh.n_edges()) - 1);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  std::uniform_real_distribution<double> length(0.0, margin);
+  int accepted = 0, rejected = 0, flips = 0;
+  for (int round = 0; round < 60; ++round) {
+    guard.prepare_moves();
+    for (auto v : mesh.vertices()) anchor[static_cast<std::size_t>(v.idx())] = to_eigen(mesh.point(v));
+    for (int i = 0; i < 40; ++i) {
+      const Mesh::VertexHandle v(pick(rng));
+      const Vec3 dir = Vec3(gauss(rng), gauss(rng), gauss(rng)).normalized();
+      const Vec3 p = anchor[static_cast<std::size_t>(v.idx())] + length(rng) * dir;
+      const bool safe = guard.move_is_safe(v, p);
+      ASSERT_EQ(safe, brute_force_move_is_safe(mesh, v, p)) << "round " << round << ", move " << i;
+      if (safe) {
+        mesh.set_point(v, to_point(p));
+        ++accepted;
+      } else {
+        ++rejected;
+      }
+    }
+    for (int i = 0; i < 5; ++i) {
+      const Mesh::EdgeHandle e(pick_edge(rng));
+      if (!mesh.is_flip_ok(e)) continue;
+      const auto h0 = mesh.halfedge_handle(e, 0), h1 = mesh.halfedge_handle(e, 1);
+      const Mesh::VertexHandle quad[4] = {mesh.from_vertex_handle(h0), mesh.to_vertex_handle(mesh.next_halfedge_handle(h1)),
+                                          mesh.to_vertex_handle(h0), mesh.to_vertex_handle(mesh.next_halfedge_handle(h0))};
+      if (mesh.valence(quad[0]) <= 3 || mesh.valence(quad[2]) <= 3) continue;
+      if (!guard.flip_is_safe(e, quad)) continue;
+      mesh.flip(e);
+      ++flips;
+    }
+  }
+  EXPECT_GT(accepted, 300);
+  EXPECT_GT(rejected, 50);
+  EXPECT_GT(flips, 10);
+}

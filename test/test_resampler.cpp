@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <random>
+
 #include "gdm/mesh_checks.h"
 #include "gdm/resampler.h"
 #include "gdm/seed.h"
@@ -71,4 +73,91 @@ TEST(Resampler, flips_make_the_triangulation_delaunay_on_flat_regions) {
   Mesh copy = make_icosahedron(Vec3::Zero(), 10.0);
   for (int pass = 1; pass <= 3; ++pass) split_large_faces(copy, 1.0, pass);
   EXPECT_EQ(flip_to_improve(copy, 1.0, [](Mesh::EdgeHandle, const Mesh::VertexHandle(&)[4]) { return false; }), 0u);
+}
+
+namespace {
+
+// An irregular, bumpy closed mesh: many edges far from Delaunay.
+Mesh bumpy_sphere(unsigned seed) {
+  Mesh mesh = make_geodesic_sphere(Vec3(0.5, -1, 2), 10.0, 2);
+  split_large_faces(mesh, 3.0, 1);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> jitter(-0.4, 0.4);
+  for (auto v : mesh.vertices()) mesh.set_point(v, mesh.point(v) + Mesh::Point(jitter(rng), jitter(rng), jitter(rng)));
+  return mesh;
+}
+
+std::vector<int> face_corners(const Mesh& mesh) {
+  std::vector<int> corners;
+  for (auto f : mesh.faces())
+    for (auto v : mesh.fv_range(f)) corners.push_back(v.idx());
+  return corners;
+}
+
+// Flags every edge of the faces around v (what a caller of the flagged pass does).
+void flag_around(const Mesh& mesh, Mesh::VertexHandle v, std::vector<char>& dirty) {
+  dirty.resize(mesh.n_edges(), 1);
+  for (auto f : mesh.vf_range(v))
+    for (auto e : mesh.fe_range(f)) dirty[e.idx()] = 1;
+}
+
+}  // namespace
+
+TEST(Resampler, flagged_flip_passes_make_the_same_flips_as_full_passes) {
+  Mesh full = bumpy_sphere(7), flagged = full;
+  std::vector<char> dirty;  // empty: every edge is looked at first
+  std::mt19937 rng(11);
+  std::uniform_int_distribution<int> pick(0, static_cast<int>(full.n_vertices()) - 1);
+  std::uniform_real_distribution<double> jitter(-0.6, 0.6);
+  std::size_t total = 0;
+  for (int round = 0; round < 12; ++round) {
+    // A veto that changes with the round though the quad does not (as the
+    // guard's does when faces nearby move): vetoed edges must be asked again.
+    const auto veto = [round](Mesh::EdgeHandle, const Mesh::VertexHandle(&quad)[4]) {
+      return (quad[0].idx() + round) % 3 != 0;
+    };
+    const std::size_t a = flip_to_improve(full, 30.0, veto);
+    const std::size_t b = flip_to_improve(flagged, 30.0, veto, &dirty);
+    ASSERT_EQ(a, b) << "round " << round;
+    ASSERT_EQ(face_corners(full), face_corners(flagged)) << "round " << round;
+    total += a;
+    // Some vertices move (the same in both), the flagged caller flags them.
+    for (int k = 0; k < 20; ++k) {
+      const Mesh::VertexHandle v(pick(rng));
+      const Mesh::Point d(jitter(rng), jitter(rng), jitter(rng));
+      full.set_point(v, full.point(v) + d);
+      flagged.set_point(v, flagged.point(v) + d);
+      flag_around(flagged, v, dirty);
+    }
+  }
+  EXPECT_GT(total, 20u);  // the passes did flip
+}
+
+TEST(Resampler, splits_of_flagged_faces_are_those_of_a_full_pass_when_the_others_are_refused) {
+  Mesh full = bumpy_sphere(3), flagged = full;
+  const double limit = 2.0;
+  const auto too_large = [](Mesh& m, double max_area) {
+    return [&m, max_area](Mesh::FaceHandle f, Mesh::HalfedgeHandle) {
+      auto it = m.cfv_iter(f);
+      const Vec3 a = to_eigen(m.point(*it)), b = to_eigen(m.point(*++it)), c = to_eigen(m.point(*++it));
+      return 0.5 * (b - a).cross(c - a).norm() > max_area;
+    };
+  };
+  // Flagged: exactly the faces the select accepts, plus some it refuses.
+  std::vector<char> flags(flagged.n_faces(), 0);
+  std::size_t accepted = 0;
+  for (auto f : flagged.faces()) {
+    const bool yes = too_large(flagged, limit)(f, Mesh::HalfedgeHandle());
+    accepted += yes;
+    flags[f.idx()] = yes || f.idx() % 4 == 0;
+  }
+  ASSERT_GT(accepted, 10u);
+  ASSERT_LT(accepted, flagged.n_faces());
+  const std::size_t a = split_longest_edges(full, 2, too_large(full, limit));
+  const std::size_t b = split_longest_edges(flagged, 2, too_large(flagged, limit), &flags);
+  EXPECT_EQ(a, b);
+  EXPECT_EQ(face_corners(full), face_corners(flagged));
+  // Flags that leave out accepted faces leave them unsplit.
+  std::vector<char> none(flagged.n_faces(), 0);
+  EXPECT_EQ(split_longest_edges(flagged, 3, too_large(flagged, 0.0), &none), 0u);
 }

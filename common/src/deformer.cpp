@@ -1,6 +1,7 @@
 #include "gdm/deformer.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <memory>
 #include <sstream>
@@ -106,6 +107,21 @@ std::string gap_summary(const DeformResult& r) {
 }
 
 namespace {
+
+// Wall seconds since construction, added to a stage's figure by add_to().
+class Stopwatch {
+ public:
+  Stopwatch() : start_(std::chrono::steady_clock::now()) {}
+  double seconds() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count(); }
+  void add_to(double& total) {
+    const auto now = std::chrono::steady_clock::now();
+    total += std::chrono::duration<double>(now - start_).count();
+    start_ = now;
+  }
+
+ private:
+  std::chrono::steady_clock::time_point start_;
+};
 
 void require(bool ok, const std::string& message) {
   if (!ok) throw InvalidOption(message);
@@ -235,6 +251,8 @@ class Deformer {
                           int cycle);
   std::size_t resample(int cycle);
   void activate_around(Mesh::VertexHandle v);
+  void touch(Mesh::VertexHandle v) { touched_[static_cast<std::size_t>(v.idx())] = touch_clock_; }
+  void faces_touched_since(int& seen, std::vector<char>& faces);
   void grow_per_vertex_state();
   bool converged(int cycle) const;
   void start_stage(int cycle);
@@ -285,6 +303,19 @@ class Deformer {
   std::vector<Vec3> round_start_;     // where each vertex was when the last round of refine_where_blocked asked
   int idle_rounds_ = 0;               // rounds in a row after which no vertex moved a voxel
   std::vector<Vec3> face_normal_;     // unnormalised, per face, for the cycle
+  // Work proportional to what changed (issue 17: on the CT series, passes
+  // over every face and edge each cycle were a sixth of the run while a few
+  // hundred vertices moved in the stages' long tails). A vertex is touched
+  // when it moves, is made, or its faces change (a split or flip next to
+  // it); each pass that keeps per-face results (the normals, the splits, the
+  // flips) looks again only at the faces around vertices touched since it
+  // last ran (touched_[v] >= its mark), with the same results as a pass over
+  // everything.
+  std::vector<int> touched_;          // per vertex: touch_clock_ when last touched
+  int touch_clock_ = 1;
+  int normals_seen_ = 0, splits_seen_ = 0, flips_seen_ = 0;  // each pass's mark (0: everything)
+  std::vector<char> face_flags_;      // scratch: faces to look at
+  std::vector<char> edge_dirty_;      // edges the next flip pass looks at (flip_to_improve)
   int last_split_cycle_ = 0;
   std::size_t flips_ = 0;
   CycleReport report_;
@@ -328,6 +359,7 @@ void Deformer::grow_per_vertex_state() {
   anchor_.resize(n);
   stage_start_.resize(n);
   last_change_.resize(n, 0);
+  touched_.resize(n, touch_clock_);
   const double coarse = o_.lod_face_area * voxel_ * voxel_;
   local_area_.resize(n, coarse);
   for (std::size_t i = old; i < n; ++i) {
@@ -360,13 +392,33 @@ void Deformer::start_stage(int cycle) {
   std::fill(settled_.begin(), settled_.end(), 0);
   std::fill(last_change_.begin(), last_change_.end(), cycle);
   last_split_cycle_ = cycle;
+  std::fill(touched_.begin(), touched_.end(), touch_clock_);
+  normals_seen_ = splits_seen_ = flips_seen_ = 0;
+  edge_dirty_.clear();
   if (guard_) rejected_earlier_stages_ += guard_->statistics().rejected_moves;
   guard_ = std::make_unique<IntersectionGuard>(mesh_, o_.optimizer.max_step * voxel_, 1e-6 * voxel_ * voxel_);
 }
 
+void Deformer::faces_touched_since(int& seen, std::vector<char>& faces) {
+  const int since = seen;
+  seen = ++touch_clock_;
+  faces.assign(mesh_.n_faces(), since == 0 ? 1 : 0);
+  if (since == 0) return;
+  for (std::size_t i = 0; i < touched_.size(); ++i)
+    if (touched_[i] >= since)
+      for (auto f : mesh_.vf_range(Mesh::VertexHandle(static_cast<int>(i)))) faces[static_cast<std::size_t>(f.idx())] = 1;
+}
+
 void Deformer::compute_face_normals() {
+  // Only faces around touched vertices, and new faces, changed since.
+  const std::size_t old = face_normal_.size();
+  faces_touched_since(normals_seen_, face_flags_);
   face_normal_.resize(mesh_.n_faces());
-  parallel_for(mesh_.n_faces(), threads_, [&](std::size_t i) {
+  std::vector<int> faces;
+  for (std::size_t i = 0; i < face_flags_.size(); ++i)
+    if (face_flags_[i] || i >= old) faces.push_back(static_cast<int>(i));
+  parallel_for(faces.size(), threads_, [&](std::size_t k) {
+    const auto i = static_cast<std::size_t>(faces[k]);
     auto it = mesh_.cfv_iter(Mesh::FaceHandle(static_cast<int>(i)));
     const Vec3 a = to_eigen(mesh_.point(*it)), b = to_eigen(mesh_.point(*++it)), c = to_eigen(mesh_.point(*++it));
     face_normal_[i] = (b - a).cross(c - a);  // length = twice the area: area weighting
@@ -483,6 +535,7 @@ std::size_t Deformer::apply_moves(const std::vector<int>& candidates, const std:
     }
     const bool was_blocked = cost_.image.is_blocked(to_eigen(mesh_.point(v)));
     mesh_.set_point(v, to_point(r.position));
+    touch(v);
     refused_[i] = 0;
     retry_at_[i] = 0;
     if (was_blocked && !cost_.image.is_blocked(r.position)) settled_[i] = 1;
@@ -514,13 +567,25 @@ void Deformer::activate_around(Mesh::VertexHandle v) {
 
 std::size_t Deformer::resample(int cycle) {
   const std::size_t before = mesh_.n_vertices();
-  const std::size_t splits = split_longest_edges(mesh_, cycle, [&](Mesh::FaceHandle f, Mesh::HalfedgeHandle) {
-    double target = 0.0;  // fine only where all three corners are
-    for (auto v : mesh_.fv_range(f)) target = std::max(target, local_area_[v.idx()]);
-    return 0.5 * face_normal_area(f) > target;
-  });
+  // A face none of whose corners was touched since the last pass kept its
+  // area and its corners' limits: it was not split then, nor is it now.
+  faces_touched_since(splits_seen_, face_flags_);
+  const std::size_t splits = split_longest_edges(
+      mesh_, cycle,
+      [&](Mesh::FaceHandle f, Mesh::HalfedgeHandle) {
+        double target = 0.0;  // fine only where all three corners are
+        for (auto v : mesh_.fv_range(f)) target = std::max(target, local_area_[v.idx()]);
+        return 0.5 * face_normal_area(f) > target;
+      },
+      &face_flags_);
   grow_per_vertex_state();
-  for (std::size_t i = before; i < mesh_.n_vertices(); ++i) activate_around(Mesh::VertexHandle(static_cast<int>(i)));
+  for (std::size_t i = before; i < mesh_.n_vertices(); ++i) {
+    // A split's midpoint, and its neighbours (their valences changed).
+    const Mesh::VertexHandle m(static_cast<int>(i));
+    activate_around(m);
+    touch(m);
+    for (auto w : mesh_.vv_range(m)) touch(w);
+  }
   if (splits > 0) last_split_cycle_ = cycle;
   if (splits > 0 && o_.prevent_self_intersection) guard_->note_new_faces();
   if (o_.improve_triangles) {
@@ -532,10 +597,21 @@ std::size_t Deformer::resample(int cycle) {
       if (o_.obstacle && (o_.obstacle->blocks(flipped_triangle(quad[0], quad[1], quad[3])) ||
                           o_.obstacle->blocks(flipped_triangle(quad[2], quad[3], quad[1]))))
         return false;
-      for (auto q : quad) activate_around(q);
+      for (auto q : quad) {
+        activate_around(q);
+        touch(q);
+      }
       return true;
     };
-    flips_ += flip_to_improve(mesh_, o_.flip_max_dihedral, veto);
+    // Every edge of the faces around a vertex touched since the last pass
+    // (its quad, valences or link may have changed); the edges vetoed then
+    // stay flagged (flip_to_improve).
+    faces_touched_since(flips_seen_, face_flags_);
+    edge_dirty_.resize(mesh_.n_edges(), 1);
+    for (std::size_t f = 0; f < face_flags_.size(); ++f)
+      if (face_flags_[f])
+        for (auto e : mesh_.fe_range(Mesh::FaceHandle(static_cast<int>(f)))) edge_dirty_[static_cast<std::size_t>(e.idx())] = 1;
+    flips_ += flip_to_improve(mesh_, o_.flip_max_dihedral, veto, &edge_dirty_);
   }
   return splits;
 }
@@ -703,6 +779,7 @@ std::size_t Deformer::refine_where_blocked(int cycle) {
     for (auto v : mesh_.fv_range(f)) {
       local_area_[v.idx()] = std::min(local_area_[v.idx()], target);
       activate_around(v);
+      touch(v);  // its faces may be split now
     }
   }
   if (!asking.empty()) last_split_cycle_ = cycle;
@@ -745,6 +822,7 @@ void Deformer::finish(int cycle, DeformResult& result) {
   const bool lod = o_.lod_tolerance > 0.0;
   const bool budget = o_.face_budget > 0;
   if (!o_.subvoxel_fit && !lod && !budget) return;
+  Stopwatch clock;
   FitOptions fit;
   fit.passes = o_.fit_passes;
   fit.max_distance = o_.fit_max_distance;
@@ -761,6 +839,7 @@ void Deformer::finish(int cycle, DeformResult& result) {
     refine_for_budget(cycle, fit, origin, result);
     reduce_to_budget(fit, result);
   }
+  clock.add_to(result.seconds.fit);
   if (!lod) return;
   const double tolerance = o_.lod_tolerance * voxel_;
   CollapseOptions collapse;
@@ -782,6 +861,7 @@ void Deformer::finish(int cycle, DeformResult& result) {
   mesh_.release_edge_status();
   mesh_.release_halfedge_status();
   mesh_.release_face_status();
+  clock.add_to(result.seconds.error_lod);
 }
 
 // Section 6's 1-to-4 resampling, undone when it made faces meet. The new
@@ -800,7 +880,7 @@ bool Deformer::subdivide_safely(int cycle) {
   }
   Mesh coarser = mesh_;
   subdivide_all(mesh_, cycle);
-  if (self_intersecting_pairs(mesh_) == 0) return true;
+  if (self_intersecting_pairs(mesh_, threads_) == 0) return true;
   mesh_ = std::move(coarser);
   return false;
 }
@@ -996,13 +1076,20 @@ DeformResult Deformer::run() {
   generation_property(mesh_);
   start_stage(0);
   int cycle = 0;
+  Stopwatch clock;
+  // The cycles' time goes to the stage they belong to.
+  const auto stage_clock = [&]() -> double& {
+    return report_.stage == 0 ? result.seconds.growth : result.seconds.refined_stages;
+  };
   while (true) {
     if (cycle >= o_.max_cycles) {
       result.reason = StopReason::max_cycles;
       break;
     }
     ++cycle;
-    if (!run_cycle(cycle)) {
+    const bool go_on = run_cycle(cycle);
+    clock.add_to(stage_clock());
+    if (!go_on) {
       result.reason = StopReason::cancelled;
       break;
     }
@@ -1014,7 +1101,9 @@ DeformResult Deformer::run() {
       result.reason = StopReason::border;
       break;
     }
-    if (!converged(cycle)) continue;
+    const bool done = converged(cycle);
+    clock.add_to(stage_clock());
+    if (!done) continue;
     // Local refinement where faces are too large to enter what lies ahead,
     // once the last stage converged (the model is then as fine as the level
     // of detail asks everywhere else; refined vertices may travel).
@@ -1032,7 +1121,9 @@ DeformResult Deformer::run() {
     // Section 6: after a first convergence, refine globally and converge again.
     // (Not with an obstacle: a collapse is not checked against it.)
     if (o_.mode == Mode::shrink && !o_.obstacle) result.lod_collapses += coarsen_shrunk_faces();
-    if (!subdivide_safely(cycle)) {
+    const bool refined = subdivide_safely(cycle);
+    clock.add_to(result.seconds.refinement);
+    if (!refined) {
       result.reason = StopReason::converged;
       break;
     }
@@ -1048,14 +1139,20 @@ DeformResult Deformer::run() {
     last_change_.clear();
     local_area_.clear();
     start_stage(cycle);
+    clock.add_to(result.seconds.refinement);
   }
+  clock.add_to(stage_clock());
   if (result.reason == StopReason::converged || result.reason == StopReason::max_cycles) {
     finish(cycle, result);
+    clock = Stopwatch();
     if (&volume_ != &input_) result.bridge_vertices = relax_bridges();
+    clock.add_to(result.seconds.fit);
     improve_quality(result);
     settle_budget(result);
+    clock.add_to(result.seconds.quality);
   }
   if (o_.float_exact_output && result.reason != StopReason::cancelled) result.float_refused = snap_to_float(mesh_).refused;
+  clock.add_to(result.seconds.float_snap);
   result.cycles = cycle;
   result.global_refinements = report_.stage;
   result.rejected_moves = rejected_earlier_stages_ + guard_->statistics().rejected_moves;
@@ -1142,10 +1239,16 @@ DeformResult deform(Mesh& mesh, const Volume& volume, const DeformOptions& reque
   validate(requested, volume);
   const DeformOptions options = growth_schedule(requested);
   Deformer(mesh, volume, volume, options, observer).check_seed();
+  Stopwatch clock;
   const PassageGate gate = gate_for(mesh, volume, options);
+  const double gate_seconds = clock.seconds();
+  clock = Stopwatch();
+  const CavityFill fill = cavities_for(mesh, gate.applied ? gate.volume : volume, options);
+  const double fill_seconds = clock.seconds();
   const Volume& gated = gate.applied ? gate.volume : volume;
-  const CavityFill fill = cavities_for(mesh, gated, options);
   DeformResult result = Deformer(mesh, fill.applied ? fill.volume : gated, volume, options, observer).run();
+  result.seconds.gap_gate = gate_seconds;
+  result.seconds.cavity_fill = fill_seconds;
   result.gap_closed_voxels = gate.closed_voxels;
   result.gap_reachable_voxels = gate.reachable_voxels;
   if (fill.opening > 0.0 && options.fill_cavities)
@@ -1166,7 +1269,9 @@ DeformResult deform(Mesh& mesh, const Volume& volume, const DeformOptions& reque
     result.cavity_voxels += c.voxels;
   }
   result.cavity_volume = static_cast<double>(result.cavity_voxels) * volume.spacing().prod();
+  clock = Stopwatch();
   add_cavity_components(mesh, gated, fill, requested, result, observer);  // topology exact (topology.h)
+  clock.add_to(result.seconds.topology);
   return result;
 }
 

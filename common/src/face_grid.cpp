@@ -123,6 +123,26 @@ bool FaceGrid::refresh(const Mesh& mesh, double reach) {
     }
     redo_.push_back(f.idx());
   }
+  return reregister_redo(mesh);
+}
+
+bool FaceGrid::refresh(const Mesh& mesh, double reach, const std::vector<int>& faces) {
+  redo_.clear();
+  const std::size_t registered = reg_lo_.size();
+  Vec3 lo, hi;
+  for (int i : faces) {
+    if (static_cast<std::size_t>(i) >= registered) break;  // ascending: the new faces follow
+    face_box(mesh, Mesh::FaceHandle(i), lo, hi);
+    if (((lo.array() - reach) >= reg_lo_[i].array()).all() && ((hi.array() + reach) <= reg_hi_[i].array()).all())
+      continue;
+    redo_.push_back(i);
+  }
+  for (std::size_t i = registered; i < mesh.n_faces(); ++i) redo_.push_back(static_cast<int>(i));
+  return reregister_redo(mesh);
+}
+
+bool FaceGrid::reregister_redo(const Mesh& mesh) {
+  Vec3 lo, hi;
   // Moving a face costs about twice inserting it: past half the faces a
   // rebuild is cheaper.
   if (2 * redo_.size() > mesh.n_faces()) return false;

@@ -28,13 +28,31 @@ IntersectionGuard::IntersectionGuard(const Mesh& mesh, double margin, double min
 void IntersectionGuard::rebuild() {
   const double cell = std::max(2.0 * mean_edge_length(*mesh_), 4.0 * margin_);
   grid_.rebuild(*mesh_, cell > 0.0 ? cell : 1.0, margin_);
+  moved_vertices_.clear();
+  flipped_faces_.clear();
 }
 
 void IntersectionGuard::prepare_moves() {
   // Only faces whose box grew are registered again, with the same margin as
   // a rebuild: the grid offers the exact tests every face a rebuild would
   // (and a face that shrank in place, with its larger box, perhaps more),
-  // and each decision is a yes/no over all of them.
+  // and each decision is a yes/no over all of them. Every other face kept
+  // its box since it was last registered or looked at.
+  std::vector<int>& faces = changed_faces_;
+  faces.clear();
+  if (moved_vertices_.size() + flipped_faces_.size() < mesh_->n_faces()) {
+    for (int v : moved_vertices_)
+      for (auto f : mesh_->vf_range(Mesh::VertexHandle(v))) faces.push_back(f.idx());
+    faces.insert(faces.end(), flipped_faces_.begin(), flipped_faces_.end());
+    std::sort(faces.begin(), faces.end());
+    faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+    moved_vertices_.clear();
+    flipped_faces_.clear();
+    if (!grid_.refresh(*mesh_, margin_, faces)) rebuild();
+    return;
+  }
+  moved_vertices_.clear();
+  flipped_faces_.clear();
   if (!grid_.refresh(*mesh_, margin_)) rebuild();
 }
 
@@ -108,7 +126,10 @@ bool IntersectionGuard::move_is_safe(Mesh::VertexHandle v, const Vec3& p) {
       if (triangles_intersect_improperly(fan[i].p, fan[i].id, other.p, other.id)) clear = false;
     }
   });
-  if (!clear) ++stats_.rejected_moves;
+  if (!clear)
+    ++stats_.rejected_moves;
+  else if (moved_vertices_.size() <= mesh_->n_faces())  // beyond: prepare_moves() looks at every face
+    moved_vertices_.push_back(v.idx());
   return clear;
 }
 
@@ -136,6 +157,7 @@ bool IntersectionGuard::flip_is_safe(Mesh::EdgeHandle e, const Mesh::VertexHandl
     return false;
   }
   // The flip keeps both face handles: register their new boxes.
+  if (flipped_faces_.size() <= mesh_->n_faces()) flipped_faces_.insert(flipped_faces_.end(), ignore.begin(), ignore.end());
   for (int f : ignore)
     for (const Triangle* t : {&t0, &t1})
       grid_.insert_box(f, t->p[0].cwiseMin(t->p[1]).cwiseMin(t->p[2]), t->p[0].cwiseMax(t->p[1]).cwiseMax(t->p[2]));

@@ -12,6 +12,7 @@
 
 #include <Eigen/Geometry>
 
+#include "gdm/parallel.h"
 #include "gdm/predicates.h"
 
 namespace gdm {
@@ -130,7 +131,7 @@ int genus(const Mesh& mesh) {
   return (2 * connected_components(mesh) - chi) / 2;
 }
 
-std::size_t self_intersecting_pairs(const Mesh& mesh) {
+std::size_t self_intersecting_pairs(const Mesh& mesh, int threads) {
   const std::vector<FaceData> faces = collect_faces(mesh);
   const int n = static_cast<int>(faces.size());
   if (n < 2) return 0;
@@ -192,14 +193,18 @@ std::size_t self_intersecting_pairs(const Mesh& mesh) {
   }
   std::sort(entries.begin(), entries.end());
 
-  std::size_t pairs = 0;
   // Each overlapping pair shares the cell containing the low corner of the
-  // intersection of their boxes; it is tested only in that cell.
-  for (std::size_t begin = 0; begin < entries.size();) {
-    std::size_t end = begin;
-    while (end < entries.size() && entries[end].key == entries[begin].key)
-      ++end;
+  // intersection of their boxes; it is tested only in that cell. Cells are
+  // independent: counted in parallel, summed in cell order.
+  std::vector<std::size_t> cell_begin;
+  for (std::size_t e = 0; e < entries.size(); ++e)
+    if (e == 0 || entries[e].key != entries[e - 1].key) cell_begin.push_back(e);
+  cell_begin.push_back(entries.size());
+  std::vector<std::size_t> cell_pairs(cell_begin.size() - 1, 0);
+  parallel_for(cell_pairs.size(), resolve_thread_count(threads), [&](std::size_t c) {
+    const std::size_t begin = cell_begin[c], end = cell_begin[c + 1];
     const std::array<int, 3>& key = entries[begin].key;
+    std::size_t found = 0;
     for (std::size_t a = begin; a < end; ++a) {
       const int i = entries[a].face;
       for (std::size_t b = a + 1; b < end; ++b) {
@@ -208,11 +213,13 @@ std::size_t self_intersecting_pairs(const Mesh& mesh) {
         bool home = true;
         for (int k = 0; k < 3 && home; ++k)
           home = cell_of(std::max(faces[i].lo[k], faces[j].lo[k]), k) == key[k];
-        if (home && test(i, j)) ++pairs;
+        if (home && test(i, j)) ++found;
       }
     }
-    begin = end;
-  }
+    cell_pairs[c] = found;
+  });
+  std::size_t pairs = 0;
+  for (std::size_t found : cell_pairs) pairs += found;
   // Oversize faces against all faces (each oversize-oversize pair once).
   for (const int i : oversize) {
     for (int j = 0; j < n; ++j) {
@@ -269,7 +276,7 @@ double smallest_angle_degrees(const Mesh& mesh) {
   return smallest * (180.0 / 3.14159265358979323846);
 }
 
-MeshReport measure(const Mesh& mesh) {
+MeshReport measure(const Mesh& mesh, int threads) {
   MeshReport r;
   for (const auto v : mesh.vertices()) (void)v, ++r.vertices;
   for (const auto f : mesh.faces()) (void)f, ++r.faces;
@@ -280,7 +287,7 @@ MeshReport measure(const Mesh& mesh) {
   r.genus = genus(mesh);
   r.components = connected_components(mesh);
   r.euler_consistent = euler_consistent(r.euler - count_isolated_vertices(mesh), r.components, r.genus, r.closed);
-  r.self_intersections = self_intersecting_pairs(mesh);
+  r.self_intersections = self_intersecting_pairs(mesh, threads);
   r.volume = enclosed_volume(mesh);
   r.area = surface_area(mesh);
   r.min_angle_deg = smallest_angle_degrees(mesh);

@@ -357,7 +357,8 @@ PipelineResult run_model(const PreparedModel& p, const PipelineObserver& observe
     r.failure = "the model ran out of time (time_limit " + num(p.time_limit) + " s) after " +
                 std::to_string(r.deform.cycles) + " cycles with " + std::to_string(r.mesh.n_faces()) + " faces";
   } else if (r.deform.reason != StopReason::cancelled) {
-    r.report = measure(r.mesh);
+    const auto checks = std::chrono::steady_clock::now();
+    r.report = measure(r.mesh, p.deform.threads);
     // A sphere's volume; a seed mesh may be larger than the object (local flip).
     const double seed_volume = p.choices.seed_source == "mesh" ? 0.0 : enclosed_volume(p.seed);
     r.failure = failure_of(r.deform, r.report, p.deform, p.allow_border, seed_volume);
@@ -370,6 +371,7 @@ PipelineResult run_model(const PreparedModel& p, const PipelineObserver& observe
         return brighter ? v > t : v < t;
       });
     }
+    r.check_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - checks).count();
   } else {
     r.failure = "cancelled";
   }

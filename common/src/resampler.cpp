@@ -34,11 +34,13 @@ bool opposite_angles_within_pi(const Vec3& pa, const Vec3& pb, const Vec3& p0, c
 
 }  // namespace
 
-std::size_t split_longest_edges(Mesh& mesh, int generation, const SplitSelect& select) {
+std::size_t split_longest_edges(Mesh& mesh, int generation, const SplitSelect& select,
+                                const std::vector<char>* only_faces) {
   const auto gen = generation_property(mesh);
   std::vector<char> marked(mesh.n_edges(), 0);
   std::vector<std::pair<Mesh::VertexHandle, Mesh::VertexHandle>> to_split;
   for (auto f : mesh.faces()) {
+    if (only_faces && (static_cast<std::size_t>(f.idx()) >= only_faces->size() || !(*only_faces)[f.idx()])) continue;
     Mesh::HalfedgeHandle longest;
     double best = -1.0;
     for (auto h : mesh.fh_range(f)) {
@@ -102,10 +104,15 @@ void subdivide_all(Mesh& mesh, int generation) {
   mesh = std::move(refined);
 }
 
-std::size_t flip_to_improve(Mesh& mesh, double max_dihedral_deg, const FlipVeto& allow) {
+std::size_t flip_to_improve(Mesh& mesh, double max_dihedral_deg, const FlipVeto& allow, std::vector<char>* dirty) {
   const double min_normal_dot = std::cos(max_dihedral_deg * M_PI / 180.0);
   std::size_t flips = 0;
+  if (dirty) dirty->resize(mesh.n_edges(), 1);
   for (auto e : mesh.edges()) {
+    if (dirty) {
+      if (!(*dirty)[e.idx()]) continue;
+      (*dirty)[e.idx()] = 0;
+    }
     if (mesh.is_boundary(e)) continue;
     const auto h0 = mesh.halfedge_handle(e, 0), h1 = mesh.halfedge_handle(e, 1);
     const auto v0 = mesh.from_vertex_handle(h0), v1 = mesh.to_vertex_handle(h0);
@@ -127,9 +134,16 @@ std::size_t flip_to_improve(Mesh& mesh, double max_dihedral_deg, const FlipVeto&
     if (m0.dot(old_n) <= 0.0 || m1.dot(old_n) <= 0.0) continue;
     if (!mesh.is_flip_ok(e)) continue;
     const Mesh::VertexHandle quad[4] = {v0, b, v1, a};
-    if (allow && !allow(e, quad)) continue;
+    if (allow && !allow(e, quad)) {
+      if (dirty) (*dirty)[e.idx()] = 1;  // asked again next pass
+      continue;
+    }
     mesh.flip(e);
     ++flips;
+    if (dirty)
+      for (const auto q : quad)
+        for (auto f : mesh.vf_range(q))
+          for (auto fe : mesh.fe_range(f)) (*dirty)[fe.idx()] = 1;
   }
   return flips;
 }

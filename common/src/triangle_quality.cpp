@@ -35,6 +35,29 @@ double face_min_angle(const Mesh& mesh, Mesh::FaceHandle f) {
   return triangle_min_angle(pos(mesh, c[0]), pos(mesh, c[1]), pos(mesh, c[2]));
 }
 
+// A sufficient test, without atan2, that face_min_angle(f) >= bound (below
+// 90 degrees): the smallest angle lies opposite the shortest edge and is
+// acute, so it is at least the bound when its squared sine, the squared
+// cross product of the two longer edges over their squared lengths, is at
+// least sin^2(bound) (with a relative margin of 1e-6, far above rounding).
+// False means "not sure": the caller computes the angle. The scans of every
+// face for the faces below the bound ran the three atan2 of each face many
+// times a pass (issue 17).
+bool certainly_not_below(const Mesh& mesh, Mesh::FaceHandle f, double sin2_bound) {
+  const auto c = corners(mesh, f);
+  const Vec3 p[3] = {pos(mesh, c[0]), pos(mesh, c[1]), pos(mesh, c[2])};
+  const double l[3] = {(p[1] - p[2]).squaredNorm(), (p[2] - p[0]).squaredNorm(), (p[0] - p[1]).squaredNorm()};
+  const int k = l[0] <= l[1] ? (l[0] <= l[2] ? 0 : 2) : (l[1] <= l[2] ? 1 : 2);  // apex opposite the shortest
+  const Vec3 u = p[(k + 1) % 3] - p[k], w = p[(k + 2) % 3] - p[k];
+  const double lu = u.squaredNorm(), lw = w.squaredNorm(), cross = u.cross(w).squaredNorm();
+  return lu > 0.0 && lw > 0.0 && cross > 0.0 && cross >= sin2_bound * lu * lw * (1.0 + 1e-6);
+}
+
+double sin2_of(double degrees) {
+  const double s = std::sin(std::min(degrees, 90.0) * M_PI / 180.0);
+  return s * s;
+}
+
 // Distance from p to the triangle abc (Ericson, Real-Time Collision Detection 5.1.5).
 double point_triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
   const Vec3 ab = b - a, ac = c - a, ap = p - a;
@@ -70,7 +93,9 @@ double distance_to(const Vec3& p, const std::vector<Tri>& tris) {
 // The faces below the bound, worst first (ties by index): the fixed order of every phase.
 std::vector<Mesh::FaceHandle> bad_faces(const Mesh& mesh, double bound) {
   std::vector<std::pair<double, int>> bad;
+  const double sin2_bound = sin2_of(bound);
   for (auto f : mesh.faces()) {
+    if (bound < 90.0 && certainly_not_below(mesh, f, sin2_bound)) continue;
     const double a = face_min_angle(mesh, f);
     if (a < bound) bad.emplace_back(a, f.idx());
   }
@@ -109,6 +134,8 @@ class QualityPass {
   double max_error_ = 0.0;  // the error bound of the current tier, mm
   double voxel_ = 1.0;  // mean edge length, a length scale for tolerances
   std::unique_ptr<IntersectionGuard> guard_;
+  bool guard_wanted_ = false;  // the current phase checks its changes (guard() builds it)
+  IntersectionGuard* guard();
   QualityResult result_;
   // The caps split this round: the foot m on the long edge bc, the apex a, d across.
   struct Split {
@@ -119,8 +146,16 @@ class QualityPass {
 
 void QualityPass::new_guard() {
   guard_.reset();
-  if (o_.prevent_self_intersection)
+  guard_wanted_ = o_.prevent_self_intersection;
+}
+
+// The phase's guard, built at its first question (issue 17: a rebuild over
+// every face per phase, most phases asking nothing or little; the mesh does
+// not change before the first question, every change needing a yes).
+IntersectionGuard* QualityPass::guard() {
+  if (!guard_ && guard_wanted_)
     guard_ = std::make_unique<IntersectionGuard>(mesh_, 0.01 * voxel_, 1e-12 * voxel_ * voxel_);
+  return guard_.get();
 }
 
 // Flips e when that raises the smallest angle of its two faces, keeps their
@@ -151,7 +186,7 @@ bool QualityPass::try_flip(Mesh::EdgeHandle e) {
   }
   if (blocked({p0, pb, pa}) || blocked({p1, pa, pb})) return false;
   const Mesh::VertexHandle quad[4] = {v0, b, v1, a};
-  if (guard_ && !guard_->flip_is_safe(e, quad)) return false;
+  if (guard() && !guard()->flip_is_safe(e, quad)) return false;
   mesh_.flip(e);
   return true;
 }
@@ -376,7 +411,7 @@ bool QualityPass::try_relax(Mesh::VertexHandle v) {
   });
   for (const Candidate& c : candidates) {
     if (o_.obstacle && o_.obstacle->blocks_move(mesh_, v, c.q)) continue;
-    if (guard_ && !guard_->move_is_safe(v, c.q)) continue;
+    if (guard() && !guard()->move_is_safe(v, c.q)) continue;
     mesh_.set_point(v, to_point(c.q));
     if (guard_)
       for (auto f : mesh_.vf_range(v)) guard_->note_face(f);
@@ -433,8 +468,10 @@ QualityResult QualityPass::run() {
   }
   guard_.reset();
   result_.faces_below = 0;
+  const double sin2_min = sin2_of(o_.min_angle);
   for (auto f : mesh_.faces())
-    if (face_min_angle(mesh_, f) < o_.min_angle) ++result_.faces_below;
+    if (!(o_.min_angle < 90.0 && certainly_not_below(mesh_, f, sin2_min)) && face_min_angle(mesh_, f) < o_.min_angle)
+      ++result_.faces_below;
   result_.min_angle_after = smallest_angle_degrees(mesh_);
   return result_;
 }

@@ -114,6 +114,7 @@ void record_choices(const gdm::PipelineChoices& c, bool phantom_default, RunReco
 void record_model(const gdm::PipelineResult& r, RunRecord& record) {
   record.model = r.deform;
   record.model_seconds = r.seconds;
+  record.check_seconds = r.check_seconds;
   record.mesh = r.report;
   record.contacts = r.contacts;
   record_extent(r.mesh, record);

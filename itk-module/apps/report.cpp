@@ -83,11 +83,36 @@ std::string summary_text(const RunRecord& r) {
     << fixed(m.area, 1) << " mm^2\n"
     << "  extent " << vec(r.low, 2) << " to " << vec(r.high, 2) << " mm\n"
     << "  time " << fixed(r.model_seconds, 2) << " s model, " << fixed(r.total_seconds, 2) << " s total\n";
+  const gdm::StageSeconds& t = r.model.seconds;
+  s << "  stages: growth " << fixed(t.growth, 2) << " s, global refinement " << fixed(t.refinement, 2)
+    << " s, refined stages " << fixed(t.refined_stages, 2) << " s, fit " << fixed(t.fit, 2) << " s, error lod "
+    << fixed(t.error_lod, 2) << " s, triangle quality " << fixed(t.quality, 2) << " s, float snap "
+    << fixed(t.float_snap, 2) << " s, cavity fill " << fixed(t.cavity_fill, 2) << " s, gap gate "
+    << fixed(t.gap_gate, 2) << " s, topology " << fixed(t.topology, 2) << " s, checks " << fixed(r.check_seconds, 2)
+    << " s\n";
   if (!r.output.empty()) s << "wrote " << r.output << "\n";
   return s.str();
 }
 
 namespace {
+
+// Where the model's time went (gdm::StageSeconds, and the checks), wall seconds.
+std::string stage_seconds_json(const RunRecord& r) {
+  const gdm::StageSeconds& t = r.model.seconds;
+  JsonObject o;
+  o.add("gap_gate", json_number(t.gap_gate))
+      .add("cavity_fill", json_number(t.cavity_fill))
+      .add("growth", json_number(t.growth))
+      .add("global_refinement", json_number(t.refinement))
+      .add("refined_stages", json_number(t.refined_stages))
+      .add("fit", json_number(t.fit))
+      .add("error_lod", json_number(t.error_lod))
+      .add("triangle_quality", json_number(t.quality))
+      .add("float_snap", json_number(t.float_snap))
+      .add("topology", json_number(t.topology))
+      .add("checks", json_number(r.check_seconds));
+  return o.str();
+}
 
 // What the cavity fill filled (gdm/cavities.h), largest first: each
 // cavity, pocket behind narrow openings and handle cap, with where it is.
@@ -181,7 +206,8 @@ std::string report_json(const RunRecord& r, const Options& options) {
       .add("cavity_component_faces", json_number(r.model.cavity_component_faces))
       .add("cavities_not_modelled", json_number(r.model.cavities_not_modelled))
       .add("filled_regions", filled_regions_json(r.model))
-      .add("seconds", json_number(r.model_seconds));
+      .add("seconds", json_number(r.model_seconds))
+      .add("stage_seconds", stage_seconds_json(r));
 
   const gdm::MeshReport& m = r.mesh;
   JsonObject mesh;

@@ -42,6 +42,7 @@ struct RunRecord {
   std::string border_sides;         // the sides it touches ("-z (1234 voxels)")
   gdm::DeformResult model;          // how the model ran (cycles, stop reason, counts)
   double model_seconds = 0.0;       // wall time of the model and its checks
+  double check_seconds = 0.0;       // of it, the checks
   gdm::MeshReport mesh;             // the result's checks and measures
   gdm::ContactReport contacts;      // where the model meets itself (closer than a voxel)
   std::array<double, 3> low{0, 0, 0}, high{0, 0, 0};  // bounding box, mm

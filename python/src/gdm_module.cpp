@@ -627,7 +627,7 @@ py::dict contacts_report(const gdm::ContactReport& c) {
   return d;
 }
 
-py::dict model_report(const gdm::DeformResult& r, double seconds) {
+py::dict model_report(const gdm::DeformResult& r, double seconds, double check_seconds = 0.0) {
   py::dict d;
   d["stop_reason"] = gdm::to_string(r.reason);
   d["cycles"] = r.cycles;
@@ -683,6 +683,20 @@ py::dict model_report(const gdm::DeformResult& r, double seconds) {
   }
   d["filled_regions"] = regions;
   d["seconds"] = seconds;
+  // Where the time went, wall seconds per step (gdm::StageSeconds).
+  py::dict stages;
+  stages["gap_gate"] = r.seconds.gap_gate;
+  stages["cavity_fill"] = r.seconds.cavity_fill;
+  stages["growth"] = r.seconds.growth;
+  stages["global_refinement"] = r.seconds.refinement;
+  stages["refined_stages"] = r.seconds.refined_stages;
+  stages["fit"] = r.seconds.fit;
+  stages["error_lod"] = r.seconds.error_lod;
+  stages["triangle_quality"] = r.seconds.quality;
+  stages["float_snap"] = r.seconds.float_snap;
+  stages["topology"] = r.seconds.topology;
+  stages["checks"] = check_seconds;
+  d["stage_seconds"] = stages;
   return d;
 }
 
@@ -781,7 +795,7 @@ py::dict extract_surface(py::handle volume, py::handle spacing, py::handle origi
   s["border_fraction"] = c.border.fraction();
   s["border_sides"] = c.border.sides_text();
   report["seed"] = s;
-  report["model"] = model_report(result.deform, result.seconds);
+  report["model"] = model_report(result.deform, result.seconds, result.check_seconds);
   report["mesh"] = mesh_report(result.mesh, result.report);
   report["contacts"] = contacts_report(result.contacts);
   report["parameters"] = parameters(options, seed);

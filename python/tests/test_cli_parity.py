@@ -39,6 +39,11 @@ def test_phantom_same_mesh_as_the_command(cli, tmp_path):
     model = dict(result.report["model"])
     cli_model = dict(report["model"])
     model.pop("seconds"), cli_model.pop("seconds")
+    # stage times: the same steps, each a duration (values differ run to run)
+    stages, cli_stages = model.pop("stage_seconds"), cli_model.pop("stage_seconds")
+    assert sorted(stages) == sorted(cli_stages)
+    assert all(stages[k] >= 0.0 and cli_stages[k] >= 0.0 for k in stages)
+    assert cli_stages["growth"] > 0.0 and stages["growth"] > 0.0
     assert model == cli_model
     for option in gdm.options():
         name = option["name"]

@@ -128,6 +128,25 @@ struct CycleReport {
 using DeformObserver = std::function<bool(const CycleReport&)>;
 
 enum class StopReason { converged, max_cycles, face_limit, cancelled, border };
+
+// Wall time of each step of a run, seconds (for reports and profiling; never
+// part of a result's geometry).
+struct StageSeconds {
+  double gap_gate = 0.0;        // the gap gate's passage flood (passage.h)
+  double cavity_fill = 0.0;     // the cavity fill and handle caps (cavities.h)
+  double growth = 0.0;          // the cycles of stage 0 (the first convergence)
+  double refinement = 0.0;      // the global 1-to-4 refinements and their checks (section 6)
+  double refined_stages = 0.0;  // the cycles after the first global refinement
+  double fit = 0.0;             // the sub-voxel fit (and the face budget's fits and reduction)
+  double error_lod = 0.0;       // the error-driven level of detail's rounds
+  double quality = 0.0;         // the triangle-quality pass (and settling the face budget)
+  double float_snap = 0.0;      // the float-exact snap
+  double topology = 0.0;        // topology exact: the cavity components and opened handles
+  double total() const {
+    return gap_gate + cavity_fill + growth + refinement + refined_stages + fit + error_lod + quality + float_snap +
+           topology;
+  }
+};
 std::string to_string(StopReason reason);
 
 struct DeformResult {
@@ -179,6 +198,7 @@ struct DeformResult {
   std::size_t budget_collapses = 0;     // edges collapsed to meet it
   std::size_t budget_splits = 0;        // edges split to meet it again after the triangle-quality pass
   std::size_t float_refused = 0;  // vertices float_exact_output could not move safely (0 in practice)
+  StageSeconds seconds;           // where the time went
 };
 
 // What the gap gate did, for logs: "gap: 1,234 free voxels beyond openings or

@@ -33,6 +33,12 @@ class FaceGrid {
   // registers faces new since then. Returns false, changing nothing, when
   // more than half the faces would be registered again: rebuild then.
   bool refresh(const Mesh& mesh, double reach);
+  // The same, looking only at `faces` (ascending, no repeats) and the faces
+  // new since the last registration: the caller knows every other face kept
+  // its box since it was last registered or looked at (their test would
+  // pass), so the outcome is refresh()'s at a cost proportional to the faces
+  // that moved.
+  bool refresh(const Mesh& mesh, double reach, const std::vector<int>& faces);
   // Registers the faces added since the last rebuild or refresh (a split
   // leaves the faces it shrinks inside their registered boxes).
   void register_new_faces(const Mesh& mesh);
@@ -63,6 +69,8 @@ class FaceGrid {
   // Registers the face's box afresh (inflated by the margin) in place of all
   // its earlier ones.
   void reregister(int face, const Vec3& lo, const Vec3& hi);
+  // refresh()'s end: registers redo_'s faces again, or returns false for a rebuild.
+  bool reregister_redo(const Mesh& mesh);
   // Calls scan(face) for every entry of the cells the box touches, until it returns true.
   template <class Scan>
   bool scan_cells(const Vec3& lo, const Vec3& hi, Scan&& scan) const;

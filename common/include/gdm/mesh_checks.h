@@ -38,8 +38,9 @@ int genus(const Mesh& mesh);
 // triangles_intersect_improperly (exact; shared vertices and edges are
 // allowed contacts, fold-overs and any other contact are not). A uniform grid
 // over face bounding boxes limits the exact tests to nearby faces; the result
-// does not depend on the grid.
-std::size_t self_intersecting_pairs(const Mesh& mesh);
+// does not depend on the grid. The grid's cells are tested on up to `threads`
+// threads (0 = all cores); the count does not depend on it.
+std::size_t self_intersecting_pairs(const Mesh& mesh, int threads = 0);
 
 // Signed enclosed volume by the divergence theorem: positive when the faces
 // of a closed mesh are oriented with outward normals (counterclockwise seen
@@ -70,8 +71,9 @@ struct MeshReport {
   double min_angle_deg = 0.0;
 };
 
-// Measures all fields of MeshReport (self-intersections included).
-MeshReport measure(const Mesh& mesh);
+// Measures all fields of MeshReport (self-intersections included, on up to
+// `threads` threads: 0 = all cores).
+MeshReport measure(const Mesh& mesh, int threads = 0);
 
 // One readable line, e.g. "V=8 F=12 E=18 closed=yes manifold=yes chi=2 ...".
 std::string to_string(const MeshReport& report);

@@ -146,6 +146,7 @@ struct PipelineResult {
   ContactReport contacts;     // where the model meets itself (closer than a voxel; self_contact.h)
   std::string failure;        // empty when the model is the object; else why not (a leak, the face limit, ...)
   double seconds = 0.0;       // wall time of the model and the checks
+  double check_seconds = 0.0; // of it, the checks (measure(): self-intersections, genus, ...; self-contacts)
 };
 
 // Step 4: deforms the prepared seed, measures the result against every

@@ -24,8 +24,12 @@ std::size_t split_large_faces(Mesh& mesh, double max_face_area, int generation);
 // detail's splits): in one pass, the longest edge of every face that
 // `select(face, longest halfedge)` accepts is split at its midpoint (each edge
 // at most once; new vertices get `generation`). Returns the number of splits.
+// With `only_faces`, faces whose flag is 0 (or beyond its end) are not asked
+// (the caller knows select refuses them): the same splits in the same order
+// for a pass proportional to the faces that changed.
 using SplitSelect = std::function<bool(Mesh::FaceHandle, Mesh::HalfedgeHandle)>;
-std::size_t split_longest_edges(Mesh& mesh, int generation, const SplitSelect& select);
+std::size_t split_longest_edges(Mesh& mesh, int generation, const SplitSelect& select,
+                                const std::vector<char>* only_faces = nullptr);
 
 // Global resampling (Fig. 5): every face becomes four by joining the edge
 // midpoints. V, E, F become V + E, 2E + 3F, 4F. New vertices get `generation`.
@@ -37,8 +41,17 @@ void subdivide_all(Mesh& mesh, int generation);
 // the triangles (quad[0], quad[1], quad[3]) and (quad[2], quad[3], quad[1]);
 // returning false vetoes it (used by the self-intersection guard). Returns the
 // number of flips.
+// With `dirty` (one flag per edge, grown to the edges by the call), only the
+// flagged edges are considered, in edge order: the caller flags every edge of
+// every face around a vertex that moved or whose faces changed since the last
+// pass. The call clears the flag of each edge it looked at, sets it again on
+// an edge `allow` vetoed (its neighbourhood may change without its own quad),
+// and flags every edge of the faces around the four vertices of each flip
+// (their quads, valences and links changed), so later edges of the same pass
+// see them as a full pass would: the same flips as a pass over every edge.
 using FlipVeto = std::function<bool(Mesh::EdgeHandle, const Mesh::VertexHandle (&)[4])>;
-std::size_t flip_to_improve(Mesh& mesh, double max_dihedral_deg, const FlipVeto& allow);
+std::size_t flip_to_improve(Mesh& mesh, double max_dihedral_deg, const FlipVeto& allow,
+                            std::vector<char>* dirty = nullptr);
 
 // Fairing: each of `vertices`, in order (the same result for any thread
 // count), moves `fraction` of the way toward the centroid of its neighbours,
