@@ -431,6 +431,8 @@ CaseSet topology_cases(const std::string& data_dir) {
     k.note = "bright spherical shell, radii 11 and 14 voxels, around an enclosed dark cavity (genus 0, two surfaces); "
              "Gaussian noise, sigma 5% of the contrast; seed in the shell at (+12.5, 0, 0) from the centre, radius 1.2 mm";
     k.truth_note = "outer: the sphere of radius 14; all: both spheres";
+    k.truth_components = 2;
+    k.truth_genus = 0;
     set.cases.push_back(std::move(k));
   }
   for (const int holes : {1, 2}) {
@@ -452,6 +454,8 @@ CaseSet topology_cases(const std::string& data_dir) {
     k.note = std::string(geometry) + (holes == 2 ? ", two side by side, their tubes merging" : "") +
              " (genus " + std::to_string(holes) + "); Gaussian noise, sigma 5% of the contrast; seed in the tube, radius 1.5 mm";
     k.truth_note = "outer = all: the tori's surface (a cap across a hole counts as error)";
+    k.truth_components = 1;
+    k.truth_genus = holes;
     set.cases.push_back(std::move(k));
   }
   {

@@ -42,6 +42,8 @@ struct Case {
   // for a scan: the outer component of the reference iso-surface is used.
   std::function<double(const Point&)> outer_distance;
   std::string truth_note;  // topology cases: what the outer and the whole truth are, for the report
+  int truth_components = 0;  // topology phantoms: the object's surfaces (closed components); 0: unknown (scans)
+  int truth_genus = -1;      // topology phantoms: their genus summed; -1: unknown (scans)
   double voxel_size() const;
 };
 
