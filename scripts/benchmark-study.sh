@@ -9,7 +9,8 @@
 #   bash scripts/benchmark-study.sh --quick    # one small case per method, one run (CI), into build/benchmark-study-quick
 #
 # Other arguments go to gdm_benchmark_study (--runs N, --threads N, --out DIR, --budget SECONDS,
-# --only WORD: only the cases whose id contains WORD, repeatable, e.g. --only bottle --only channels;
+# --only WORD: only the cases whose id contains WORD, repeatable, e.g. --only bottle --only channels,
+# --only topo for the topology group (hollow sphere, tori, whole tooth);
 # with --only, pass an --out other than docs/benchmarks so the full report stays whole).
 # GDM_BUILD_DIR picks the build folder (default build/); GDM_SHARED_DIR the
 # folder holding data/ (default ../shared); GDM_STUDY_CMAKE_ARGS extra CMake arguments.

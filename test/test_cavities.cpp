@@ -232,14 +232,9 @@ TEST(Cavities, shrinking_fills_as_growing_does) {
   EXPECT_LE(d.mean, 0.1);
 }
 
-// A solid torus lying in the plane z = c.z: a tube of radius r around the
-// circle of radius R about c.
-ph::Sdf torus(const Vec3& c, double R, double r) {
-  return [=](const Vec3& p) { return std::hypot(std::hypot(p.x() - c.x(), p.y() - c.y()) - R, p.z() - c.z()) - r; };
-}
-
 // A torus (genus 1), one hole or two side by side (a double torus, genus 2:
-// two tori whose tubes merge where they meet), with CT-like edges and noise.
+// two tori whose tubes merge where they meet), with CT-like edges and noise;
+// the shapes are the shared phantoms (ph::tori).
 struct Tori {
   ph::Grid grid;
   std::vector<Vec3> centres;  // of the holes
@@ -247,24 +242,19 @@ struct Tori {
   Volume volume;
   double surface_distance(const Vec3& p) const {  // to the tori's surface, mm
     double d = std::numeric_limits<double>::infinity();
-    for (const Vec3& c : centres) d = std::min(d, torus(c, R, r)(p));
+    for (const Vec3& c : centres) d = std::min(d, ph::torus(c, R, r)(p));
     return d;
   }
 };
 
 Tori make_tori(int holes, double noise, unsigned seed) {
+  const ph::Tori shape = ph::tori(holes);
   Tori t;
-  t.R = holes == 1 ? 12.0 : 9.0;
-  t.r = holes == 1 ? 5.0 : 3.5;
-  t.grid.dims = holes == 1 ? Index3{44, 44, 22} : Index3{56, 36, 20};
-  const Vec3 c = t.grid.center();
-  std::vector<ph::Sdf> parts;
-  for (int h = 0; h < holes; ++h) {
-    const double shift = holes == 1 ? 0.0 : (h == 0 ? -t.R : t.R);
-    t.centres.push_back(c + Vec3(shift, 0.0, 0.0));
-    parts.push_back(torus(t.centres.back(), t.R, t.r));
-  }
-  t.volume = ph::with_gaussian_noise(ph::voxelize(t.grid, ph::unite(parts), kLow, kHigh - kLow), noise * (kHigh - kLow), seed);
+  t.grid = shape.grid;
+  t.centres = shape.centres;
+  t.R = shape.R;
+  t.r = shape.r;
+  t.volume = ph::with_gaussian_noise(ph::voxelize(t.grid, shape.sdf, kLow, kHigh - kLow), noise * (kHigh - kLow), seed);
   return t;
 }
 

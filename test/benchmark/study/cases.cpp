@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <random>
 #include <stdexcept>
@@ -400,6 +401,98 @@ CaseSet scan_cases(const std::string& data_dir) {
        gdm::Mode::grow, {-1, -1, -1}, "threshold -400 HU", true, {4, 4, 1});
   make("T1 MRI head, skin", "mri-skin", data_dir + "/mri-head-t1/chris_t1.nii.gz", 40.0, true, gdm::Mode::grow,
        {-1, -1, -1}, "threshold 40", true, {2, 2, 2});
+  return set;
+}
+
+CaseSet topology_cases(const std::string& data_dir) {
+  CaseSet set;
+  constexpr double kNoise = 0.05;  // Gaussian noise, sigma 5 % of the contrast
+  {
+    // A hollow sphere: a bright shell 3 voxels thick (radii 11 and 14) around
+    // an enclosed dark cavity, grown from a seed in the shell. Outer truth:
+    // the sphere of radius 14; all surfaces: both spheres.
+    ph::Grid g;
+    g.dims = {40, 40, 40};
+    const Vec3 c = g.center();
+    const double inner = 11.0, outer = 14.0;
+    const ph::Sdf shell = ph::difference(ph::sphere(c, outer), ph::sphere(c, inner));
+    const gdm::Volume v =
+        ph::with_gaussian_noise(ph::voxelize(g, shell, kBackground, kContrast), kNoise * kContrast, 150u);
+    Case k = phantom_case({"hollow sphere", "topo-shell", g, shell, {}, c + Vec3(12.5, 0.0, 0.0)}, "3", v);
+    k.group = "topology";
+    k.name = "hollow sphere, shell 3 voxels";
+    k.id = "topo-hollow-sphere";
+    k.seed_radius = 1.2;  // inside the 3-voxel shell
+    k.exact_distance = [c, inner, outer](const Point& p) {
+      const double r = (vec(p) - c).norm();
+      return std::min(std::abs(r - outer), std::abs(r - inner));
+    };
+    k.outer_distance = [c, outer](const Point& p) { return std::abs((vec(p) - c).norm() - outer); };
+    k.note = "bright spherical shell, radii 11 and 14 voxels, around an enclosed dark cavity (genus 0, two surfaces); "
+             "Gaussian noise, sigma 5% of the contrast; seed in the shell at (+12.5, 0, 0) from the centre, radius 1.2 mm";
+    k.truth_note = "outer: the sphere of radius 14; all: both spheres";
+    k.truth_components = 2;
+    k.truth_genus = 0;
+    set.cases.push_back(std::move(k));
+  }
+  for (const int holes : {1, 2}) {
+    // The tori of the topology tests (phantoms::tori): genus 1 and 2, grown
+    // from a seed in the tube. The outer surface is the whole surface (no cavity).
+    const ph::Tori t = ph::tori(holes);
+    const gdm::Volume v = ph::with_gaussian_noise(ph::voxelize(t.grid, t.sdf, kBackground, kContrast),
+                                                  kNoise * kContrast, 170u + static_cast<unsigned>(holes));
+    const std::string name = holes == 1 ? "torus" : "double torus";
+    Case k = phantom_case({name, "topo", t.grid, t.sdf, {}, t.centres.front() + Vec3(0.0, -t.R, 0.0)},
+                          holes == 1 ? "torus" : "double-torus", v);
+    k.group = "topology";
+    k.name = name + " (genus " + std::to_string(holes) + ")";
+    k.seed_radius = 1.5;
+    const auto sdf = t.sdf;
+    k.outer_distance = [sdf](const Point& p) { return std::abs(sdf(vec(p))); };
+    char geometry[160];
+    std::snprintf(geometry, sizeof geometry, "%s: tube radius %g voxels around circles of radius %g", name.c_str(), t.r, t.R);
+    k.note = std::string(geometry) + (holes == 2 ? ", two side by side, their tubes merging" : "") +
+             " (genus " + std::to_string(holes) + "); Gaussian noise, sigma 5% of the contrast; seed in the tube, radius 1.5 mm";
+    k.truth_note = "outer = all: the tori's surface (a cap across a hole counts as error)";
+    k.truth_components = 1;
+    k.truth_genus = holes;
+    set.cases.push_back(std::move(k));
+  }
+  {
+    // The whole tooth from a seed in the dentin: no cavity filled for the
+    // peers (the pulp chamber stays in the volume), padded like the scans.
+    namespace fs = std::filesystem;
+    const std::string path = data_dir + "/tooth/tooth.mhd";
+    const std::string name = "whole tooth from the dentin (industrial CT)";
+    if (!fs::exists(path)) {
+      set.skipped.push_back(name + ": " + path + " not found (the shared data is absent)");
+      return set;
+    }
+    Image raw;
+    try {
+      raw = read_scan(path);
+    } catch (const std::exception& e) {
+      set.skipped.push_back(name + ": " + e.what());
+      return set;
+    }
+    const float low = *std::min_element(raw.values.begin(), raw.values.end());
+    Case k;
+    k.group = "topology";
+    k.name = name;
+    k.id = "topo-tooth";
+    k.image = pad(raw, 2, low);
+    k.threshold = 115.0;
+    k.object_brighter = true;
+    const std::array<int, 3> seed_voxel{56, 56, 70};
+    for (int a = 0; a < 3; ++a) k.seed[a] = k.image.origin[a] + k.image.spacing[a] * (seed_voxel[a] + 2);
+    k.truth_field = k.image;
+    k.truth_level = k.threshold;
+    k.note = "threshold 115, object brighter, seed voxel (56, 56, 70) in the dentin; no cavity filled, the pulp chamber "
+             "left in the volume; padded with 2 voxels of background";
+    k.truth_note = "all: the iso-surface of the 2x-upsampled volume at 115 (every component); outer: its component "
+                   "with the largest extent";
+    set.cases.push_back(std::move(k));
+  }
   return set;
 }
 

@@ -36,6 +36,14 @@ struct Case {
   Image truth_field;
   double truth_level = 0.0;
   std::string note;  // preprocessing, shown in the report
+  // Topology cases (issue 15): the exact distance (mm) to the object's outer
+  // surface only, the truth for our GDM with the solid topology (cavities
+  // filled); exact_distance is then the distance to all its surfaces. Empty
+  // for a scan: the outer component of the reference iso-surface is used.
+  std::function<double(const Point&)> outer_distance;
+  std::string truth_note;  // topology cases: what the outer and the whole truth are, for the report
+  int truth_components = 0;  // topology phantoms: the object's surfaces (closed components); 0: unknown (scans)
+  int truth_genus = -1;      // topology phantoms: their genus summed; -1: unknown (scans)
   double voxel_size() const;
 };
 
@@ -51,6 +59,11 @@ CaseSet scan_cases(const std::string& data_dir);
 // through an opening narrower than the gap, or misses a channel wider than it.
 // quick: the smaller opening only.
 CaseSet opening_cases(bool quick);
+// Objects that are not a ball (issue 15): a hollow sphere (an enclosed
+// cavity), a torus and a double torus (handles, genus 1 and 2), and the
+// whole tooth from a seed in the dentin (its pulp chamber; skipped when
+// data_dir has no tooth). Group "topology"; not part of the quick study.
+CaseSet topology_cases(const std::string& data_dir);
 CaseSet volume_scaling_cases(bool quick);
 CaseSet area_scaling_cases(bool quick);
 

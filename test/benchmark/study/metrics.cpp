@@ -176,36 +176,16 @@ Checks check_surface(const Surface& s, std::size_t max_faces_for_intersections) 
   c.two_manifold = fans_ok;
 
   // A closed 2-manifold soup is measured as a gdm::Mesh with gdm's own checks.
-  if (c.two_manifold) {
-    gdm::Mesh mesh;
-    std::vector<gdm::Mesh::VertexHandle> handles;
-    handles.reserve(s.points.size());
-    for (const auto& p : s.points) handles.push_back(mesh.add_vertex({p[0], p[1], p[2]}));
-    bool ok = true;
-    omerr().disable();
-    for (const auto& f : s.faces)
-      if (!mesh.add_face(handles[f[0]], handles[f[1]], handles[f[2]]).is_valid()) {
-        ok = false;  // inconsistent orientation: fall back to the soup checks
-        break;
-      }
-    omerr().enable();
-    if (ok) {
-      // Drop the unreferenced points so that gdm counts them as it counts the surface.
-      for (auto v : mesh.vertices())
-        if (mesh.is_isolated(v)) {
-          mesh.request_vertex_status();
-          mesh.delete_vertex(v, false);
-        }
-      if (mesh.has_vertex_status()) mesh.garbage_collection();
-      c.via_gdm_mesh = true;
-      c.closed = gdm::is_closed(mesh);
-      c.two_manifold = gdm::is_two_manifold(mesh);
-      c.components = gdm::connected_components(mesh);
-      c.genus = c.closed && c.two_manifold ? gdm::genus(mesh) : -1;
-      if (s.faces.size() <= max_faces_for_intersections)
-        c.self_intersections = static_cast<long>(gdm::self_intersecting_pairs(mesh));
-      return c;
-    }
+  gdm::Mesh mesh;
+  if (c.two_manifold && to_gdm_mesh(s, mesh)) {
+    c.via_gdm_mesh = true;
+    c.closed = gdm::is_closed(mesh);
+    c.two_manifold = gdm::is_two_manifold(mesh);
+    c.components = gdm::connected_components(mesh);
+    c.genus = c.closed && c.two_manifold ? gdm::genus(mesh) : -1;
+    if (s.faces.size() <= max_faces_for_intersections)
+      c.self_intersections = static_cast<long>(gdm::self_intersecting_pairs(mesh));
+    return c;
   }
   if (c.closed && c.two_manifold) {
     std::unordered_set<int> used;
@@ -215,6 +195,121 @@ Checks check_surface(const Surface& s, std::size_t max_faces_for_intersections) 
   }
   if (s.faces.size() <= max_faces_for_intersections) c.self_intersections = soup_self_intersections(s);
   return c;
+}
+
+bool to_gdm_mesh(const Surface& s, gdm::Mesh& mesh) {
+  mesh.clear();
+  std::vector<gdm::Mesh::VertexHandle> handles;
+  handles.reserve(s.points.size());
+  for (const auto& p : s.points) handles.push_back(mesh.add_vertex({p[0], p[1], p[2]}));
+  bool ok = true;
+  omerr().disable();
+  for (const auto& f : s.faces)
+    if (!mesh.add_face(handles[f[0]], handles[f[1]], handles[f[2]]).is_valid()) {
+      ok = false;  // non-manifold or inconsistent orientation
+      break;
+    }
+  omerr().enable();
+  if (!ok) return false;
+  // Drop the unreferenced points so that gdm counts them as it counts the surface.
+  for (auto v : mesh.vertices())
+    if (mesh.is_isolated(v)) {
+      mesh.request_vertex_status();
+      mesh.delete_vertex(v, false);
+    }
+  if (mesh.has_vertex_status()) mesh.garbage_collection();
+  return true;
+}
+
+namespace {
+
+// Face labels of the edge-connected components; returns their count.
+int label_components(const Surface& s, std::vector<int>& label) {
+  std::vector<std::pair<std::uint64_t, int>> edges;
+  edges.reserve(s.faces.size() * 3);
+  for (std::size_t t = 0; t < s.faces.size(); ++t)
+    for (int k = 0; k < 3; ++k) edges.emplace_back(edge_key(s.faces[t][k], s.faces[t][(k + 1) % 3]), static_cast<int>(t));
+  std::sort(edges.begin(), edges.end());
+  UnionFind uf(s.faces.size());
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t j = i + 1;
+    while (j < edges.size() && edges[j].first == edges[i].first) ++j;
+    for (std::size_t k = i + 1; k < j; ++k) uf.unite(edges[i].second, edges[k].second);
+    i = j;
+  }
+  std::unordered_map<int, int> id;
+  label.assign(s.faces.size(), -1);
+  for (std::size_t t = 0; t < s.faces.size(); ++t) {
+    const int root = uf.find(static_cast<int>(t));
+    auto it = id.emplace(root, static_cast<int>(id.size())).first;
+    label[t] = it->second;
+  }
+  return static_cast<int>(id.size());
+}
+
+}  // namespace
+
+std::vector<ComponentTopology> component_topology(const Surface& s) {
+  std::vector<int> label;
+  const int n = label_components(s, label);
+  std::vector<ComponentTopology> out(n);
+  std::vector<gdm::Vec3> lo(n, gdm::Vec3::Constant(1e300)), hi(n, gdm::Vec3::Constant(-1e300));
+  std::vector<std::unordered_set<int>> vertices(n);
+  std::vector<std::unordered_map<std::uint64_t, int>> edge_uses(n);
+  for (std::size_t t = 0; t < s.faces.size(); ++t) {
+    const int c = label[t];
+    ++out[c].faces;
+    for (int k = 0; k < 3; ++k) {
+      const int v = s.faces[t][k];
+      vertices[c].insert(v);
+      ++edge_uses[c][edge_key(v, s.faces[t][(k + 1) % 3])];
+      lo[c] = lo[c].cwiseMin(vec(s.points[v]));
+      hi[c] = hi[c].cwiseMax(vec(s.points[v]));
+    }
+  }
+  for (int c = 0; c < n; ++c) {
+    out[c].extent = (hi[c] - lo[c]).norm();
+    bool closed = true;
+    for (const auto& [edge, uses] : edge_uses[c]) closed = closed && uses == 2;
+    if (!closed) continue;
+    const long chi = static_cast<long>(vertices[c].size()) - static_cast<long>(edge_uses[c].size()) +
+                     static_cast<long>(out[c].faces);
+    out[c].genus = static_cast<int>((2 - chi) / 2);
+  }
+  std::stable_sort(out.begin(), out.end(),
+                   [](const ComponentTopology& a, const ComponentTopology& b) { return a.extent > b.extent; });
+  return out;
+}
+
+Surface largest_component(const Surface& s) {
+  std::vector<int> label;
+  const int n = label_components(s, label);
+  if (n <= 1) return s;
+  std::vector<gdm::Vec3> lo(n, gdm::Vec3::Constant(1e300)), hi(n, gdm::Vec3::Constant(-1e300));
+  for (std::size_t t = 0; t < s.faces.size(); ++t)
+    for (int v : s.faces[t]) {
+      lo[label[t]] = lo[label[t]].cwiseMin(vec(s.points[v]));
+      hi[label[t]] = hi[label[t]].cwiseMax(vec(s.points[v]));
+    }
+  int best = 0;
+  for (int c = 1; c < n; ++c)
+    if ((hi[c] - lo[c]).norm() > (hi[best] - lo[best]).norm()) best = c;
+  Surface out;
+  std::vector<int> index(s.points.size(), -1);
+  for (std::size_t t = 0; t < s.faces.size(); ++t) {
+    if (label[t] != best) continue;
+    std::array<int, 3> f{};
+    for (int k = 0; k < 3; ++k) {
+      int& i = index[s.faces[t][k]];
+      if (i < 0) {
+        i = static_cast<int>(out.points.size());
+        out.points.push_back(s.points[s.faces[t][k]]);
+      }
+      f[k] = i;
+    }
+    out.faces.push_back(f);
+  }
+  return out;
 }
 
 std::vector<Point> sample_points(const Surface& s) {

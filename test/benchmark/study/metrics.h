@@ -26,6 +26,24 @@ struct Checks {
 // Self-intersections are skipped (-1) above `max_faces_for_intersections` faces.
 Checks check_surface(const Surface& surface, std::size_t max_faces_for_intersections = 3000000);
 
+// The surface as a gdm::Mesh (unreferenced points dropped) when it is a
+// consistently oriented 2-manifold; false otherwise.
+bool to_gdm_mesh(const Surface& surface, gdm::Mesh& mesh);
+
+// Topology per edge-connected component (issue 15): its faces, its extent
+// (bounding-box diagonal, mm) and its genus from its own Euler
+// characteristic, g = (2 - (V - E + F)) / 2, when every edge of it has two
+// faces (-1 otherwise: open or non-manifold). Largest extent first.
+struct ComponentTopology {
+  std::size_t faces = 0;
+  double extent = 0.0;
+  int genus = -1;
+};
+std::vector<ComponentTopology> component_topology(const Surface& surface);
+
+// The component of largest extent (the outer surface of an iso-surface).
+Surface largest_component(const Surface& surface);
+
 // Points where a surface's error is measured: its vertices and face centroids.
 std::vector<Point> sample_points(const Surface& surface);
 
