@@ -30,7 +30,10 @@ BorderContact measure_border_contact(const Volume& volume, const Index3& seed, d
   const Index3& n = volume.dims();
   const auto nx = static_cast<std::size_t>(n[0]), ny = static_cast<std::size_t>(n[1]),
              nz = static_cast<std::size_t>(n[2]);
-  const std::size_t inner = (nx > 2 && ny > 2 && nz > 2) ? (nx - 2) * (ny - 2) * (nz - 2) : 0;
+  // The border is the two outermost layers: a region voxel on the second one
+  // puts the object's surface within a voxel of the volume's edge, where a
+  // growing model counts as reaching the border (Deformer's border vertices).
+  const std::size_t inner = (nx > 4 && ny > 4 && nz > 4) ? (nx - 4) * (ny - 4) * (nz - 4) : 0;
   c.border_total = nx * ny * nz - inner;
   for (int a = 0; a < 3; ++a)
     if (seed[a] < 0 || seed[a] >= n[a]) return c;
@@ -52,9 +55,10 @@ BorderContact measure_border_contact(const Volume& volume, const Index3& seed, d
     ++c.region_voxels;
     const std::size_t i = v % nx, j = (v / nx) % ny, k = v / (nx * ny);
     const bool on_side[6] = {i == 0, i + 1 == nx, j == 0, j + 1 == ny, k == 0, k + 1 == nz};
+    const bool near_side[6] = {i <= 1, i + 2 >= nx, j <= 1, j + 2 >= ny, k <= 1, k + 2 >= nz};
     bool border = false;
     for (int side = 0; side < 6; ++side)
-      if (on_side[side]) {
+      if (near_side[side]) {
         ++c.per_side[side];
         border = true;
       }

@@ -24,8 +24,9 @@ struct BorderContact {
   bool measured = false;                   // false: the seed voxel is not on the object's side of T
   bool complete = true;                    // false: the fill stopped once the region covered too much of the border
   std::size_t region_voxels = 0;           // voxels of the seed's region visited
-  std::size_t border_voxels = 0;           // of them, on the volume's outermost layer
-  std::size_t border_total = 0;            // voxels of the outermost layer
+  std::size_t border_voxels = 0;           // of them, on the volume's two outermost layers (within a voxel
+                                           // of its edge)
+  std::size_t border_total = 0;            // voxels of the two outermost layers
   std::array<std::size_t, 6> per_side{};   // region voxels on the sides -x, +x, -y, +y, -z, +z (index axes)
 
   // border_voxels / border_total.

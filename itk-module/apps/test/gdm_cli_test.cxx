@@ -21,6 +21,7 @@
 #include <map>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "gtest/gtest.h"
@@ -809,12 +810,19 @@ TEST(RealData, CtPhantomDicomSeries) {
 // Two scans whose object the scan cuts (the EPI head at its top and bottom
 // slices, neghip's blobs at the x sides), at the defaults: no flag needed,
 // the summary and the report say the border was allowed and why.
+// The whole tooth (T 115, a seed in the dentin) ends a voxel short of the
+// scan's last slice: its region lies on the border's second layer, which the
+// model reaches within a voxel, so it counts as cut too.
 TEST(RealData, ObjectsTheScanCutsWorkAtTheDefaults) {
-  for (const std::string name : {"mri-epi/mha.mha", "neghip/neghip.mhd"}) {
+  const std::vector<std::pair<std::string, std::vector<std::string>>> scans = {
+      {"mri-epi/mha.mha", {}}, {"neghip/neghip.mhd", {}}, {"tooth/tooth.mhd", {"--threshold", "115", "--seed", "56,56,70"}}};
+  for (const auto& [name, options] : scans) {
     const fs::path file = kShared + "/data/" + name;
     if (!fs::exists(file)) GTEST_SKIP() << "the scan " << file << " is absent";
     const fs::path dir = work_dir();
-    const GdmRun r = run_gdm(dir, {file.string(), "-o", "out.ply", "--report", "out.json"});
+    std::vector<std::string> args = {file.string(), "-o", "out.ply", "--report", "out.json"};
+    args.insert(args.end(), options.begin(), options.end());
+    const GdmRun r = run_gdm(dir, args);
     ASSERT_EQ(r.code, 0) << name << ": " << r.err;
     EXPECT_NE(r.out.find("the object is cut by the scan"), std::string::npos) << r.out;
     const std::string json = slurp(dir / "out.json");
