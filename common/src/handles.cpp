@@ -318,6 +318,30 @@ bool tube(Mesh& mesh, const std::vector<int>& a, const std::vector<int>& b, doub
   return !faces.empty() && std::all_of(faces.begin(), faces.end(), [](auto h) { return h.is_valid(); });
 }
 
+// Adds to `patch` the faces that share an edge with it.
+void widen_patch(const Mesh& mesh, std::vector<int>& patch) {
+  std::vector<char> in(mesh.n_faces(), 0);
+  for (int f : patch) in[f] = 1;
+  const std::size_t n = patch.size();
+  for (std::size_t i = 0; i < n; ++i)
+    for (auto g : mesh.ff_range(mesh.face_handle(patch[i])))
+      if (!in[g.idx()]) {
+        in[g.idx()] = 1;
+        patch.push_back(g.idx());
+      }
+}
+
+// Whether two patches share a face or a vertex.
+bool overlap(const Mesh& mesh, const std::vector<int>& first, const std::vector<int>& second) {
+  std::vector<char> vertex(mesh.n_vertices(), 0);
+  for (int f : first)
+    for (auto v : mesh.fv_range(mesh.face_handle(f))) vertex[v.idx()] = 1;
+  for (int f : second)
+    for (auto v : mesh.fv_range(mesh.face_handle(f)))
+      if (vertex[v.idx()]) return true;
+  return false;
+}
+
 // Replaces the two patches of `trial` by a tube between their boundary
 // loops `a` and `b` (rings drawn `pull` of the way toward the axis); true
 // when the result is closed, 2-manifold and has no more intersecting face
@@ -358,26 +382,34 @@ OpenedHandles open_handles(Mesh& mesh, const Volume& volume, const CavityFill& f
       ++out.kept_caps;
       continue;
     }
-    close_patch(mesh, patches[0]);
-    close_patch(mesh, patches[1]);
-    const std::vector<int> a = disc_boundary(mesh, patches[0]), b = disc_boundary(mesh, patches[1]);
-    if (a.size() < 3 || b.size() < 3) {
-      ++out.kept_caps;
-      continue;
-    }
     // The straight tube first (rings on the way from rim to rim); when it
     // meets the model (a shrunk model's rims are not always matched well
     // enough), rings drawn toward the hole's axis, inside the membrane,
     // where no face of the model lies: the next deformation carries them
-    // onto the wall either way.
+    // onto the wall either way. When no tube fits between the patches' rims
+    // (the model folds at a rim: a torus grown from a 20-face seed met its
+    // tube 3 times at every pull), the patches widened by a ring of faces,
+    // then two: rims farther from the fold.
     Mesh trial;
     bool done = false;
-    for (const double pull : {0.0, 0.4, 0.7}) {
-      Mesh attempt(mesh);  // a fresh copy: status flags of an earlier attempt do not carry over
-      if (opened_by_tube(attempt, patches[0], patches[1], a, b, pull, baseline)) {
-        trial = std::move(attempt);
-        done = true;
-        break;
+    for (int widen = 0; widen <= 2 && !done; ++widen) {
+      std::vector<int> first = patches[0], second = patches[1];
+      for (int k = 0; k < widen; ++k) {
+        widen_patch(mesh, first);
+        widen_patch(mesh, second);
+      }
+      if (widen > 0 && overlap(mesh, first, second)) break;
+      close_patch(mesh, first);
+      close_patch(mesh, second);
+      const std::vector<int> a = disc_boundary(mesh, first), b = disc_boundary(mesh, second);
+      if (a.size() < 3 || b.size() < 3) continue;
+      for (const double pull : {0.0, 0.4, 0.7}) {
+        Mesh attempt(mesh);  // a fresh copy: status flags of an earlier attempt do not carry over
+        if (opened_by_tube(attempt, first, second, a, b, pull, baseline)) {
+          trial = std::move(attempt);
+          done = true;
+          break;
+        }
       }
     }
     if (!done) {
