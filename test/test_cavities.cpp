@@ -23,6 +23,7 @@
 #include "gdm/triangle_locator.h"
 #include "marching_cubes_surface.h"
 #include "mesh_expectations.h"
+#include "tori.h"
 #include "shared_data.h"
 
 namespace gdm {
@@ -233,30 +234,10 @@ TEST(Cavities, shrinking_fills_as_growing_does) {
 }
 
 // A torus (genus 1), one hole or two side by side (a double torus, genus 2:
-// two tori whose tubes merge where they meet), with CT-like edges and noise;
-// the shapes are the shared phantoms (ph::tori).
-struct Tori {
-  ph::Grid grid;
-  std::vector<Vec3> centres;  // of the holes
-  double R = 0.0, r = 0.0;
-  Volume volume;
-  double surface_distance(const Vec3& p) const {  // to the tori's surface, mm
-    double d = std::numeric_limits<double>::infinity();
-    for (const Vec3& c : centres) d = std::min(d, ph::torus(c, R, r)(p));
-    return d;
-  }
-};
-
-Tori make_tori(int holes, double noise, unsigned seed) {
-  const ph::Tori shape = ph::tori(holes);
-  Tori t;
-  t.grid = shape.grid;
-  t.centres = shape.centres;
-  t.R = shape.R;
-  t.r = shape.r;
-  t.volume = ph::with_gaussian_noise(ph::voxelize(t.grid, shape.sdf, kLow, kHigh - kLow), noise * (kHigh - kLow), seed);
-  return t;
-}
+// two tori whose tubes merge where they meet), with CT-like edges and noise:
+// the shared phantoms (tori.h).
+using Tori = test::Tori;
+Tori make_tori(int holes, double noise, unsigned seed) { return test::make_tori(holes, kLow, kHigh - kLow, noise, seed); }
 
 // A torus and a double torus grown from a seed in the tube: the solid
 // topology caps each handle by a membrane across its hole, where the hole is
@@ -267,7 +248,7 @@ class Handles : public ::testing::TestWithParam<std::tuple<int, int>> {};
 TEST_P(Handles, solid_caps_each_hole_at_its_narrowest_place) {
   const auto [holes, noise_percent] = GetParam();
   const Tori t = make_tori(holes, 0.01 * noise_percent, 60u + static_cast<unsigned>(holes * 10 + noise_percent));
-  const Vec3 seed = t.centres.front() + Vec3(0.0, -t.R, 0.0);
+  const Vec3 seed = t.holes.front() + Vec3(0.0, -t.R, 0.0);
   Mesh mesh = make_geodesic_sphere(seed, 1.5, 1);
   const DeformResult r = deform(mesh, t.volume, grow());
   test::expect_valid_closed_surface(mesh);
@@ -286,24 +267,24 @@ TEST_P(Handles, solid_caps_each_hole_at_its_narrowest_place) {
   for (const Cavity& c : r.filled_regions) {
     if (c.kind != CavityKind::handle) continue;
     double nearest = std::numeric_limits<double>::infinity();
-    for (const Vec3& h : t.centres) nearest = std::min(nearest, (c.centre - h).norm());
+    for (const Vec3& h : t.holes) nearest = std::min(nearest, (c.centre - h).norm());
     EXPECT_LT(nearest, 1.5) << "the cap at (" << c.centre.transpose() << ") is not at a hole's centre";
     EXPECT_NEAR(c.width, 2.0 * (t.R - t.r), 2.5) << "the hole is " << 2.0 * (t.R - t.r) << " voxels across at its waist";
   }
   EXPECT_EQ(contacts, 0.0) << "the model meets itself";
   // Away from the holes (beyond a voxel from them) the model is the tori's surface.
   const auto in_a_hole = [&](const Vec3& p) {
-    for (const Vec3& h : t.centres)
+    for (const Vec3& h : t.holes)
       if (std::hypot(p.x() - h.x(), p.y() - h.y()) < t.R - t.r + 1.0) return true;
     return false;
   };
   const ph::DistanceStats away = ph::vertex_distances(
-      mesh, [&](const Vec3& p) { return t.surface_distance(p); }, t.volume.voxel_size(),
+      mesh, [&](const Vec3& p) { return t.distance(p); }, t.volume.voxel_size(),
       [&](const Vec3& p) { return !in_a_hole(p); });
   std::vector<double> cap;
   for (auto v : mesh.vertices()) {
     const Vec3 p = to_eigen(mesh.point(v));
-    for (const Vec3& h : t.centres)
+    for (const Vec3& h : t.holes)
       if (std::hypot(p.x() - h.x(), p.y() - h.y()) < t.R - t.r - 0.5) cap.push_back(std::abs(p.z() - h.z()));
   }
   const ph::DistanceStats across = ph::distance_stats(cap);
@@ -355,7 +336,7 @@ TEST(Cavities, skipping_the_growth_without_handles_fills_the_same) {
                      Vec3(24, 24, 24)});
     cases.push_back({"shell with a canal" + tag, shell(grid, 8.0, 14.0, 1.5, noise, seed), c + Vec3(-11.0, 0.0, 0.0)});
     const Tori t = make_tori(1, noise, seed);
-    cases.push_back({"torus" + tag, t.volume, t.centres.front() + Vec3(0.0, -t.R, 0.0)});
+    cases.push_back({"torus" + tag, t.volume, t.holes.front() + Vec3(0.0, -t.R, 0.0)});
   }
   for (const Case& k : cases) {
     CavityOptions o;

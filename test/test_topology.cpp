@@ -21,6 +21,7 @@
 #include "gdm/voxel_topology.h"
 #include "mesh_expectations.h"
 #include "shared_data.h"
+#include "tori.h"
 
 namespace gdm {
 namespace {
@@ -320,29 +321,9 @@ TEST(Topology, the_tooth_from_the_dentin_exact) {
 }
 
 // A torus (genus 1) or two side by side whose tubes merge (a double torus,
-// genus 2), the shared phantoms (ph::tori), voxelized with noise.
-struct Torus {
-  ph::Grid grid;
-  std::vector<Vec3> holes;
-  double R = 0.0, r = 0.0;
-  Volume volume;
-  double distance(const Vec3& p) const {  // to the surface, mm
-    double d = std::numeric_limits<double>::infinity();
-    for (const Vec3& c : holes) d = std::min(d, ph::torus(c, R, r)(p));
-    return d;
-  }
-};
-
-Torus make_torus(int holes, double noise, unsigned seed) {
-  const ph::Tori shape = ph::tori(holes);
-  Torus t;
-  t.grid = shape.grid;
-  t.holes = shape.centres;
-  t.R = shape.R;
-  t.r = shape.r;
-  t.volume = ph::with_gaussian_noise(ph::voxelize(t.grid, shape.sdf, kLow, kHigh - kLow), noise * (kHigh - kLow), seed);
-  return t;
-}
+// genus 2): the shared phantoms (tori.h), voxelized with noise.
+using Torus = test::Tori;
+Torus make_torus(int holes, double noise, unsigned seed) { return test::make_tori(holes, kLow, kHigh - kLow, noise, seed); }
 
 // The shared handle phantoms (phantoms::tori, also the benchmark study's
 // topology cases) have the genus they are named for: thresholded with 5 %
@@ -394,16 +375,7 @@ TEST_P(HandleTopology, exact_follows_the_genus_of_the_data) {
     std::printf("  in the holes: %zu vertices, mean %.3f p95 %.3f max %.3f; away: mean %.3f p95 %.3f max %.3f\n",
                 in_hole.size(), a.mean, a.p95, a.max, b.mean, b.p95, b.max);
   }
-  EXPECT_EQ(e.reason, StopReason::converged) << to_string(e.reason);
-  EXPECT_EQ(e.handles_opened, static_cast<std::size_t>(holes)) << topology_summary(e);
-  EXPECT_TRUE(m.closed);
-  EXPECT_TRUE(m.two_manifold);
-  EXPECT_EQ(m.self_intersections, 0u);
-  EXPECT_EQ(m.components, 1);
-  EXPECT_EQ(m.genus, holes);
-  EXPECT_TRUE(m.euler_consistent);
-  EXPECT_LE(d.mean, 0.1);
-  EXPECT_EQ(e.faces, exact.n_faces());
+  test::expect_genus_followed(e, exact, m, holes, d.mean, 0.1);
   // The same, bit for bit, on one thread and on two.
   DeformOptions one = grow(Topology::exact), two = one;
   one.threads = 1;

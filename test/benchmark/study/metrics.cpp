@@ -108,14 +108,21 @@ Surface from_gdm(const gdm::Mesh& mesh) {
   return s;
 }
 
-Checks check_surface(const Surface& s, std::size_t max_faces_for_intersections) {
-  Checks c;
-  // Edge use counts (sorted (edge, face) pairs) and face components through edges.
+// Every face's three edges as (edge key, face) pairs, sorted: the uses of an
+// edge are neighbours.
+static std::vector<std::pair<std::uint64_t, int>> sorted_edge_uses(const Surface& s) {
   std::vector<std::pair<std::uint64_t, int>> edges;
   edges.reserve(s.faces.size() * 3);
   for (std::size_t t = 0; t < s.faces.size(); ++t)
     for (int k = 0; k < 3; ++k) edges.emplace_back(edge_key(s.faces[t][k], s.faces[t][(k + 1) % 3]), static_cast<int>(t));
   std::sort(edges.begin(), edges.end());
+  return edges;
+}
+
+Checks check_surface(const Surface& s, std::size_t max_faces_for_intersections) {
+  Checks c;
+  // Edge use counts (sorted (edge, face) pairs) and face components through edges.
+  const std::vector<std::pair<std::uint64_t, int>> edges = sorted_edge_uses(s);
   UnionFind uf(s.faces.size());
   bool boundary = false, edges_two = true;
   std::size_t edge_count = 0;
@@ -225,11 +232,7 @@ namespace {
 
 // Face labels of the edge-connected components; returns their count.
 int label_components(const Surface& s, std::vector<int>& label) {
-  std::vector<std::pair<std::uint64_t, int>> edges;
-  edges.reserve(s.faces.size() * 3);
-  for (std::size_t t = 0; t < s.faces.size(); ++t)
-    for (int k = 0; k < 3; ++k) edges.emplace_back(edge_key(s.faces[t][k], s.faces[t][(k + 1) % 3]), static_cast<int>(t));
-  std::sort(edges.begin(), edges.end());
+  const std::vector<std::pair<std::uint64_t, int>> edges = sorted_edge_uses(s);
   UnionFind uf(s.faces.size());
   for (std::size_t i = 0; i < edges.size();) {
     std::size_t j = i + 1;
