@@ -45,7 +45,7 @@ std::vector<OptionEntry<PipelineOptions>> make_pipeline_catalogue() {
   std::vector<OptionEntry<PipelineOptions>> rows = {
       row("smooth", pre, "mm", "Gaussian smoothing before the model (0 = none)", OptionType::real, 0.0, 1000.0,
           [](const PipelineOptions& o) { return o.smooth; }, [](PipelineOptions& o, double v) { o.smooth = v; }),
-      row("seed_radius", seed, "mm", "seed sphere radius (0 = auto: half the depth for the automatic seed, else 2 voxels)",
+      row("seed_radius", seed, "mm", "seed sphere radius, at least 0.75 voxel (0 = auto: half the depth for the automatic seed, at least 0.75 voxel; else 2 voxels)",
           OptionType::real, 0.0, 1e6, [](const PipelineOptions& o) { return o.seed.radius; },
           [](PipelineOptions& o, double v) { o.seed.radius = v; }),
       // Level 5 already has 20,480 faces, smaller than any level of detail: the model could not move them.
