@@ -1074,13 +1074,9 @@ TEST(Model, AHollowShellGivesItsOuterSurface) {
 TEST(Model, ATorusIsCappedAcrossItsHole) {
   const fs::path dir = work_dir();
   namespace ph = gdm::phantoms;
-  ph::Grid grid;
-  grid.dims = {44, 44, 22};
-  const gdm::Vec3 c = grid.center();
-  const ph::Sdf torus = [c](const gdm::Vec3& p) {
-    return std::hypot(std::hypot(p.x() - c.x(), p.y() - c.y()) - 12.0, p.z() - c.z()) - 5.0;
-  };
-  write_phantom(ph::voxelize(grid, torus, 50.0, 150.0), dir / "torus.mha");
+  const ph::Tori shape = ph::tori(1);  // the shared torus: R 12, r 5 in 44 x 44 x 22
+  const gdm::Vec3 c = shape.centres.front();
+  write_phantom(ph::voxelize(shape.grid, shape.sdf, 50.0, 150.0), dir / "torus.mha");
   const std::string seed = std::to_string(c.x()) + "," + std::to_string(c.y() - 12.0) + "," + std::to_string(c.z());
   const std::vector<std::string> common = {"torus.mha", "--threshold", "125", "--seed", seed, "--seed-radius", "1.5"};
   std::vector<std::string> capped = common, open = common;
@@ -1128,13 +1124,10 @@ TEST(Model, TopologyExactFollowsTheData) {
   EXPECT_EQ(hm.self_intersections, 0u);
   EXPECT_TRUE(hm.closed && hm.two_manifold);
 
-  ph::Grid tgrid;
-  tgrid.dims = {44, 44, 22};
-  const gdm::Vec3 t = tgrid.center();
-  const ph::Sdf torus = [t](const gdm::Vec3& p) {
-    return std::hypot(std::hypot(p.x() - t.x(), p.y() - t.y()) - 12.0, p.z() - t.z()) - 5.0;
-  };
-  write_phantom(ph::with_gaussian_noise(ph::voxelize(tgrid, torus, 50.0, 150.0), 7.5, 16u), dir / "torus_exact.mha");
+  const ph::Tori torus = ph::tori(1);  // the shared torus
+  const gdm::Vec3 t = torus.centres.front();
+  write_phantom(ph::with_gaussian_noise(ph::voxelize(torus.grid, torus.sdf, 50.0, 150.0), 7.5, 16u),
+                dir / "torus_exact.mha");
   const std::string tseed = std::to_string(t.x()) + "," + std::to_string(t.y() - 12.0) + "," + std::to_string(t.z());
   const GdmRun r = run_gdm(dir, {"torus_exact.mha", "--threshold", "125", "--seed", tseed, "--seed-radius", "1.5",
                                  "--topology", "exact", "-o", "torus_exact.ply", "--report", "torus_exact.json"});
