@@ -160,6 +160,11 @@ double topology_extent_floor(const DeformOptions& o, double voxel) {
 // this many times in a row, then at intervals doubling up to
 // kMaxRetryInterval cycles (sooner when a move nearby wakes it).
 constexpr int kRetriesWhenRefused = 3;
+// smooth_pleats: rounds per stage, rings around the faces in contact, passes.
+constexpr int kPleatRounds = 8;
+constexpr int kPleatRings = 2;
+constexpr int kPleatPasses = 20;
+constexpr double kPleatEdge = 0.25;  // voxels: shorter edges are a crumple's
 constexpr int kMaxRetryInterval = 16;
 
 // How far a flip or a collapse of the triangle-quality pass may move the surface, voxels.
@@ -268,6 +273,12 @@ class Deformer {
   ChannelWidthOptions width_options() const;
   std::size_t refine_where_blocked(int cycle);
   std::size_t relax_bridges();
+  std::size_t smooth_pleats(int cycle);
+  std::size_t collapse_edges(const CollapseOptions& c);
+  std::vector<char> pleat_vertices(bool flaps_only) const;
+  std::vector<char> grow_by_rings(std::vector<char> flagged, int rings) const;
+  std::vector<char> edges_between(const std::vector<char>& flagged) const;
+  void restart_stage(int cycle);
   void improve_quality(DeformResult& result);
   bool subdivide_safely(int cycle);
   void refine_for_budget(int cycle, const FitOptions& fit, std::vector<Vec3>& origin, DeformResult& result);
@@ -302,6 +313,7 @@ class Deformer {
   int local_rounds_ = 0;              // rounds of refine_where_blocked so far
   std::vector<Vec3> round_start_;     // where each vertex was when the last round of refine_where_blocked asked
   int idle_rounds_ = 0;               // rounds in a row after which no vertex moved a voxel
+  int pleat_rounds_ = 0;              // rounds of smooth_pleats in this stage
   std::vector<Vec3> face_normal_;     // unnormalised, per face, for the cycle
   // Work proportional to what changed (issue 17: on the CT series, passes
   // over every face and edge each cycle were a sixth of the run while a few
@@ -1001,6 +1013,11 @@ std::size_t Deformer::coarsen_shrunk_faces() {
   c.tolerance = 0.5 * voxel_;
   c.search = 1.5 * voxel_;
   c.min_angle = o_.lod_min_angle;
+  return collapse_edges(c);
+}
+
+// One pass of collapse_flat_edges, the deleted elements collected.
+std::size_t Deformer::collapse_edges(const CollapseOptions& c) {
   const std::size_t collapses = collapse_flat_edges(mesh_, &volume_, o_.threshold, c);  // one pass
   mesh_.garbage_collection();
   mesh_.release_vertex_status();
@@ -1008,6 +1025,117 @@ std::size_t Deformer::coarsen_shrunk_faces() {
   mesh_.release_halfedge_status();
   mesh_.release_face_status();
   return collapses;
+}
+
+// Starts the stage again from the model as it is (after collapses, which
+// renumber the vertices).
+void Deformer::restart_stage(int cycle) {
+  step_.clear();
+  cost_value_.clear();
+  active_.clear();
+  settled_.clear();
+  refused_.clear();
+  retry_at_.clear();
+  anchor_.clear();
+  stage_start_.clear();
+  last_change_.clear();
+  local_area_.clear();
+  start_stage(cycle);
+}
+
+// Beyond the paper (issue 15): a shrinking surface loses area, and where
+// it loses it faster than its faces can follow it folds over on itself. On
+// the whole tooth, shrunk onto from outside, 180 such pleats in the concave
+// skirt between the roots: two parts of the model two to a dozen face rings
+// apart face each other across a sliver of background (contact_faces).
+// Once a stage converges, the vertices of those faces and two rings around
+// them move toward the centroid of their neighbours (a Laplacian smoothing,
+// which unfolds a fold, each move checked by the guard), and the stage goes
+// on, so the image pulls them back onto the object. Returns the vertices
+// smoothed (0: no pleat).
+std::size_t Deformer::smooth_pleats(int cycle) {
+  // Where it crumpled, its faces shrank to slivers a small fraction of a
+  // voxel across, folded into knots that stand out of the surface and that
+  // no smoothing move the guard allows unfolds: their edges go first (any
+  // deviation; topology, intersections and orientation checked).
+  CollapseOptions c;
+  c.max_length = kPleatEdge * voxel_;
+  c.min_angle = 0.0;
+  c.max_normal_change = 180.0;
+  std::vector<char> edges = edges_between(grow_by_rings(pleat_vertices(false), 1));
+  c.only_edges = &edges;
+  std::size_t collapses = collapse_edges(c);
+  if (collapses > 0) restart_stage(cycle);
+  // Then the edges between the vertices of the flaps, up to the level of
+  // detail's length: a spike of model standing out of the surface shrinks
+  // to a point. (Not where two parts face each other across background: the
+  // object may have a slit thinner than a voxel there, as where the double
+  // torus's tubes merge in a V-groove.)
+  edges = edges_between(pleat_vertices(true));
+  c.max_length = lod_edge_length(o_, voxel_);
+  const std::size_t spikes = collapse_edges(c);
+  if (spikes > 0) restart_stage(cycle);
+  collapses += spikes;
+  const std::vector<char> pleat = grow_by_rings(pleat_vertices(false), kPleatRings);
+  std::vector<Mesh::VertexHandle> vertices;
+  for (auto v : mesh_.vertices())
+    if (pleat[static_cast<std::size_t>(v.idx())]) vertices.push_back(v);
+  if (vertices.empty()) return collapses;
+  const double max_move = o_.optimizer.max_step * voxel_;  // the guard's margin
+  relax_toward_neighbours(mesh_, vertices, 1.0, max_move, kPleatPasses,
+                          [&] { if (o_.prevent_self_intersection) guard_->prepare_moves(); },
+                          [&](Mesh::VertexHandle v, const Vec3& q) {
+                            return !o_.prevent_self_intersection || guard_->move_is_safe(v, q);
+                          });
+  std::fill(active_.begin(), active_.end(), 0);
+  for (auto v : vertices) {
+    touch(v);
+    anchor_[static_cast<std::size_t>(v.idx())] = to_eigen(mesh_.point(v));
+    last_change_[static_cast<std::size_t>(v.idx())] = cycle;
+    activate_around(v);
+  }
+  last_split_cycle_ = cycle;
+  return collapses + vertices.size();
+}
+
+// The flagged vertices and `rings` rings of neighbours around them.
+std::vector<char> Deformer::grow_by_rings(std::vector<char> flagged, int rings) const {
+  for (int ring = 0; ring < rings; ++ring) {
+    std::vector<char> next = flagged;
+    for (auto v : mesh_.vertices())
+      if (flagged[static_cast<std::size_t>(v.idx())])
+        for (auto w : mesh_.vv_range(v)) next[static_cast<std::size_t>(w.idx())] = 1;
+    flagged.swap(next);
+  }
+  return flagged;
+}
+
+// The edges (by index) whose two ends are flagged.
+std::vector<char> Deformer::edges_between(const std::vector<char>& flagged) const {
+  std::vector<char> edges(mesh_.n_edges(), 0);
+  for (auto e : mesh_.edges()) {
+    const auto h = mesh_.halfedge_handle(e, 0);
+    edges[static_cast<std::size_t>(e.idx())] = flagged[static_cast<std::size_t>(mesh_.from_vertex_handle(h).idx())] &&
+                                               flagged[static_cast<std::size_t>(mesh_.to_vertex_handle(h).idx())];
+  }
+  return edges;
+}
+
+// The vertices of the faces in a pleat: where the model is thinner than a
+// voxel with background inside it (a flap; a thin part of the object itself
+// is no pleat), and unless `flaps_only`, where it faces another part of
+// itself across a sliver of background (contact_faces).
+std::vector<char> Deformer::pleat_vertices(bool flaps_only) const {
+  std::vector<Vec3> middles;
+  const std::vector<char> met = flaps_only ? std::vector<char>(mesh_.n_faces(), 0) : contact_faces(mesh_, voxel_);
+  const std::vector<char> thin = thin_faces(mesh_, voxel_, &middles);
+  std::vector<char> pleat(mesh_.n_vertices(), 0);
+  for (auto f : mesh_.faces()) {
+    const std::size_t i = static_cast<std::size_t>(f.idx());
+    if (met[i] || (thin[i] && !cost_.image.is_blocked(middles[i])))
+      for (auto v : mesh_.fv_range(f)) pleat[static_cast<std::size_t>(v.idx())] = 1;
+  }
+  return pleat;
 }
 
 // A vertex the gap gate holds: just outside it, the model's volume is
@@ -1107,6 +1235,13 @@ DeformResult Deformer::run() {
     // Local refinement where faces are too large to enter what lies ahead,
     // once the last stage converged (the model is then as fine as the level
     // of detail asks everywhere else; refined vertices may travel).
+    if (o_.mode == Mode::shrink && !o_.obstacle && pleat_rounds_ < kPleatRounds) {
+      ++pleat_rounds_;
+      const std::size_t smoothed = smooth_pleats(cycle);
+      result.pleat_vertices += smoothed;
+      if (smoothed > 0) continue;
+      pleat_rounds_ = kPleatRounds;
+    }
     std::size_t asked = 0;
     if (o_.refine_channels && report_.stage == o_.global_refinements && local_rounds_ < 16 &&
         (asked = refine_where_blocked(cycle)) > 0) {
@@ -1128,17 +1263,8 @@ DeformResult Deformer::run() {
       break;
     }
     ++report_.stage;
-    step_.clear();
-    cost_value_.clear();
-    active_.clear();
-    settled_.clear();
-    refused_.clear();
-    retry_at_.clear();
-    anchor_.clear();
-    stage_start_.clear();
-    last_change_.clear();
-    local_area_.clear();
-    start_stage(cycle);
+    pleat_rounds_ = 0;
+    restart_stage(cycle);
     clock.add_to(result.seconds.refinement);
   }
   clock.add_to(stage_clock());

@@ -291,6 +291,7 @@ std::size_t collapse_flat_edges(Mesh& mesh, const Volume* volume, double thresho
     if (len >= o.max_length) break;  // shortest first: the rest are longer
     const Mesh::EdgeHandle e(ei);
     if (mesh.status(e).deleted()) continue;
+    if (o.only_edges && !(*o.only_edges)[static_cast<std::size_t>(ei)]) continue;
     // Earlier collapses lengthen their neighbours' edges: the limit holds for the edge as it is now.
     if (o.max_length < std::numeric_limits<double>::infinity() && mesh.calc_edge_length(e) >= o.max_length) continue;
     for (int side = 0; side < 2; ++side) {

@@ -51,9 +51,10 @@ int find_root(std::vector<int>& parent, int i) {
   return i;
 }
 
-// contact_faces over face data already computed.
+// contact_faces over face data already computed; with `behind`, the other
+// face lies behind f (the model is thin there) instead of in front of it.
 std::vector<char> faces_in_contact(const Mesh& mesh, const std::vector<FaceData>& faces, double distance,
-                                   std::vector<Vec3>* gaps) {
+                                   std::vector<Vec3>* gaps, bool behind = false) {
   std::vector<char> contact(mesh.n_faces(), 0);
   if (gaps) gaps->assign(mesh.n_faces(), Vec3::Zero());
   if (mesh.n_faces() == 0 || !(distance > 0.0)) return contact;
@@ -71,13 +72,13 @@ std::vector<char> faces_in_contact(const Mesh& mesh, const std::vector<FaceData>
     grid.any_near(a.centroid - reach, a.centroid + reach, [&](int g) {
       const FaceData& b = faces[static_cast<std::size_t>(g)];
       if (g == f.idx() || b.area == 0.0 || a.normal.dot(b.normal) > -0.5) return false;
-      if ((b.centroid - a.centroid).dot(a.normal) <= 0.0) return false;  // behind f
+      if (((b.centroid - a.centroid).dot(a.normal) <= 0.0) != behind) return false;  // on the wrong side of f
       const double d = point_triangle_distance(a.centroid, b.corners);
       if (d >= distance) return false;
       if (near.empty()) near = neighbourhood_of(mesh, f);
       for (auto v : mesh.fv_range(Mesh::FaceHandle(g)))
         if (near.count(v.idx())) return false;
-      if (gaps) (*gaps)[static_cast<std::size_t>(f.idx())] = a.centroid + 0.5 * d * a.normal;
+      if (gaps) (*gaps)[static_cast<std::size_t>(f.idx())] = a.centroid + (behind ? -0.5 : 0.5) * d * a.normal;
       found = true;
       return true;
     });
@@ -90,6 +91,10 @@ std::vector<char> faces_in_contact(const Mesh& mesh, const std::vector<FaceData>
 
 std::vector<char> contact_faces(const Mesh& mesh, double distance, std::vector<Vec3>* gaps) {
   return faces_in_contact(mesh, face_data(mesh), distance, gaps);
+}
+
+std::vector<char> thin_faces(const Mesh& mesh, double distance, std::vector<Vec3>* middles) {
+  return faces_in_contact(mesh, face_data(mesh), distance, middles, true);
 }
 
 ContactReport find_self_contacts(const Mesh& mesh, double distance, const std::function<bool(const Vec3&)>& object_side) {

@@ -56,6 +56,7 @@ struct CollapseOptions {
                                   // smallest angle already there, when lower)
   double max_normal_change = 45.0;  // a new face turns at most this much from the old one, degrees
   double max_length = std::numeric_limits<double>::infinity();  // only edges shorter than this, mm
+  const std::vector<char>* only_edges = nullptr;  // when given: only the edges flagged here (by index)
 };
 
 // Checks collapses geometrically against the whole mesh: a uniform grid over

@@ -44,6 +44,13 @@ ContactReport find_self_contacts(const Mesh& mesh, double distance,
 // when given).
 std::vector<char> contact_faces(const Mesh& mesh, double distance, std::vector<Vec3>* gaps = nullptr);
 
+// The faces of `mesh` with another face behind them (opposite normals, not
+// neighbours as above) closer than `distance` (mm): where the model is
+// thinner than that. A shrinking model folded over on itself has them (a
+// flap); a model of an object thicker than `distance` has none. `middles`
+// (when given) receives the midpoint of each one's thickness.
+std::vector<char> thin_faces(const Mesh& mesh, double distance, std::vector<Vec3>* middles = nullptr);
+
 // One log line per region (at most `limit`, the largest), saying what it
 // means; empty when there is no contact.
 std::vector<std::string> describe_contacts(const ContactReport& report, std::size_t limit = 5);
