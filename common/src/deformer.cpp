@@ -752,7 +752,7 @@ std::size_t Deformer::refine_where_blocked(int cycle) {
   }
   round_start_.resize(mesh_.n_vertices());
   for (auto v : mesh_.vertices()) round_start_[static_cast<std::size_t>(v.idx())] = to_eigen(mesh_.point(v));
-  const std::vector<char> met = contact_faces(mesh_, 2.5 * voxel_);
+  const std::vector<char> met = contact_faces(mesh_, 2.5 * voxel_, nullptr, threads_);
   std::vector<double> floor_area(mesh_.n_faces(), finest);
   for (auto f : mesh_.faces()) {
     const double area = 0.5 * face_normal_area(f);

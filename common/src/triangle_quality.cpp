@@ -106,6 +106,17 @@ std::vector<Mesh::FaceHandle> bad_faces(const Mesh& mesh, double bound) {
   return out;
 }
 
+// Is any face below the bound? bad_faces(...).empty() without the list and
+// its sort: stops at the first such face.
+bool has_bad_face(const Mesh& mesh, double bound) {
+  const double sin2_bound = sin2_of(bound);
+  for (auto f : mesh.faces()) {
+    if (bound < 90.0 && certainly_not_below(mesh, f, sin2_bound)) continue;
+    if (face_min_angle(mesh, f) < bound) return true;
+  }
+  return false;
+}
+
 class QualityPass {
  public:
   QualityPass(Mesh& mesh, const QualityOptions& o) : mesh_(mesh), o_(o), bound_(o.min_angle + kMargin) {}
@@ -117,7 +128,7 @@ class QualityPass {
   // vertices by a float spacing, which may change an angle by ~1e-4 degrees.
   static constexpr double kMargin = 0.01;
 
-  void new_guard();
+  void guard_is_stale() { guard_current_ = false; }
   bool try_flip(Mesh::EdgeHandle e);
   std::size_t flip_phase();
   std::size_t split_phase();
@@ -134,7 +145,9 @@ class QualityPass {
   double max_error_ = 0.0;  // the error bound of the current tier, mm
   double voxel_ = 1.0;  // mean edge length, a length scale for tolerances
   std::unique_ptr<IntersectionGuard> guard_;
-  bool guard_wanted_ = false;  // the current phase checks its changes (guard() builds it)
+  // guard_ holds every face's present box: guard() uses it as it is. The
+  // flips and moves register their faces; splits and collapses make it stale.
+  bool guard_current_ = false;
   IntersectionGuard* guard();
   QualityResult result_;
   // The caps split this round: the foot m on the long edge bc, the apex a, d across.
@@ -144,17 +157,22 @@ class QualityPass {
   std::vector<Split> split_;
 };
 
-void QualityPass::new_guard() {
-  guard_.reset();
-  guard_wanted_ = o_.prevent_self_intersection;
-}
-
-// The phase's guard, built at its first question (issue 17: a rebuild over
-// every face per phase, most phases asking nothing or little; the mesh does
-// not change before the first question, every change needing a yes).
+// The guard, built or rebuilt at the first question after a change it did
+// not hear of (issue 17: a rebuild over every face per phase, most phases
+// asking nothing or little; the mesh does not change before the first
+// question, every change needing a yes). One guard serves the whole pass: a
+// rebuild reuses its grid's cells, and a flip phase after the relaxation
+// keeps it as it is, since the moves registered their faces (and a flip its
+// two). Its grid then offers every face a rebuild would (perhaps more, under
+// the boxes they had), and each answer is a yes or no over all of them: the
+// same answers as a guard built afresh, without a pass over every face.
 IntersectionGuard* QualityPass::guard() {
-  if (!guard_ && guard_wanted_)
+  if (!o_.prevent_self_intersection) return nullptr;
+  if (!guard_)
     guard_ = std::make_unique<IntersectionGuard>(mesh_, 0.01 * voxel_, 1e-12 * voxel_ * voxel_);
+  else if (!guard_current_)
+    guard_->rebuild();
+  guard_current_ = true;
   return guard_.get();
 }
 
@@ -192,7 +210,6 @@ bool QualityPass::try_flip(Mesh::EdgeHandle e) {
 }
 
 std::size_t QualityPass::flip_phase() {
-  new_guard();
   std::size_t flips = 0;
   for (auto f : bad_faces(mesh_, bound_)) {
     if (face_min_angle(mesh_, f) >= bound_) continue;  // an earlier flip fixed it
@@ -262,6 +279,8 @@ std::size_t QualityPass::split_phase() {
     split_.push_back({mid, apexes[i], edges[i].first, edges[i].second, opposite[i]});
     ++splits;
   }
+  // The split faces shrink inside their registered boxes: the guard needs only the new ones.
+  if (guard_current_) guard_->note_new_faces();
   return splits;
 }
 
@@ -332,7 +351,12 @@ std::size_t QualityPass::collapse_phase() {
     mesh_.collapse(h);
     ++undone_;
   }
+  // Collapses move faces and the garbage collection renumbers them; with
+  // none (and no face deleted before), it has nothing to collect and the
+  // guard stays as it is.
+  const std::size_t faces_before = mesh_.n_faces();
   mesh_.garbage_collection();
+  if (collapses + undone_ > 0 || mesh_.n_faces() != faces_before) guard_is_stale();
   return collapses;
 }
 
@@ -413,7 +437,7 @@ bool QualityPass::try_relax(Mesh::VertexHandle v) {
     if (o_.obstacle && o_.obstacle->blocks_move(mesh_, v, c.q)) continue;
     if (guard() && !guard()->move_is_safe(v, c.q)) continue;
     mesh_.set_point(v, to_point(c.q));
-    if (guard_)
+    if (guard_ && guard_current_)
       for (auto f : mesh_.vf_range(v)) guard_->note_face(f);
     return true;
   }
@@ -421,7 +445,6 @@ bool QualityPass::try_relax(Mesh::VertexHandle v) {
 }
 
 std::size_t QualityPass::relax_phase() {
-  new_guard();
   // The corners of the faces below the bound, in vertex order.
   std::vector<int> vertices;
   for (auto f : bad_faces(mesh_, bound_))
@@ -448,7 +471,7 @@ QualityResult QualityPass::run() {
       max_error_ = o_.max_error * tier;
       undo_splits_ = tier == 5.0 || !(o_.max_error > 0.0);
       for (int round = 0; round < o_.rounds; ++round) {
-        if (bad_faces(mesh_, bound_).empty()) break;
+        if (!has_bad_face(mesh_, bound_)) break;
         const std::size_t flips = flip_phase();
         const std::size_t splits = split_phase();
         std::size_t splits_made = splits;
@@ -462,8 +485,8 @@ QualityResult QualityPass::run() {
         if (flips + splits_made + collapses + moves == 0) break;
       }
       // Flips that help after the last moves.
-      if (!bad_faces(mesh_, bound_).empty()) result_.flips += flip_phase();
-      if (bad_faces(mesh_, bound_).empty() || !(o_.max_error > 0.0)) break;
+      if (has_bad_face(mesh_, bound_)) result_.flips += flip_phase();
+      if (!has_bad_face(mesh_, bound_) || !(o_.max_error > 0.0)) break;
     }
   }
   guard_.reset();
