@@ -387,6 +387,33 @@ TEST(MeshChecks, grid_broad_phase_matches_brute_force_on_mixed_sizes) {
   EXPECT_EQ(pairs, brute_force_pairs(mesh));
 }
 
+// measure() gathers the faces, counts the intersecting pairs and finds the
+// smallest angle on several threads: every field the same for any count,
+// bit for bit, also with deleted faces left in the mesh (not yet collected).
+TEST(MeshChecks, measure_is_the_same_for_any_thread_count) {
+  Mesh mesh = make_torus(3.0, 1.0, 96, 48);  // 9,216 faces: several chunks per thread
+  add_box(mesh, Vec3(-100, -100, -0.2), Vec3(100, 100, 0.2));  // slices the torus
+  mesh.request_face_status();
+  mesh.request_edge_status();
+  mesh.request_halfedge_status();
+  mesh.request_vertex_status();
+  mesh.delete_face(Mesh::FaceHandle(7), false);
+  const gdm::MeshReport one = gdm::measure(mesh, 1);
+  EXPECT_GT(one.self_intersections, 0u);
+  EXPECT_EQ(one.faces, mesh.n_faces() - 1);
+  for (int threads : {2, 3, 8}) {
+    const gdm::MeshReport r = gdm::measure(mesh, threads);
+    EXPECT_EQ(gdm::to_string(r), gdm::to_string(one)) << threads << " threads";
+    EXPECT_EQ(r.self_intersections, one.self_intersections) << threads << " threads";
+    EXPECT_EQ(r.volume, one.volume) << threads << " threads";
+    EXPECT_EQ(r.area, one.area) << threads << " threads";
+    EXPECT_EQ(r.min_angle_deg, one.min_angle_deg) << threads << " threads";
+  }
+  EXPECT_EQ(one.min_angle_deg, gdm::smallest_angle_degrees(mesh));
+  EXPECT_EQ(one.volume, gdm::enclosed_volume(mesh));
+  EXPECT_EQ(one.area, gdm::surface_area(mesh));
+}
+
 TEST(MeshChecks, report_line_names_every_field) {
   const std::string line = gdm::to_string(gdm::measure(make_tetrahedron()));
   for (const char* key : {"V=4", "F=4", "E=6", "closed=yes", "two_manifold=yes", "chi=2",

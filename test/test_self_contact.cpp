@@ -3,6 +3,9 @@
 // side; a ball does not. Phantoms built here, with noise.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <vector>
+
 #include "gdm/phantoms.h"
 #include "gdm/pipeline.h"
 #include "gdm/self_contact.h"
@@ -151,6 +154,36 @@ TEST(SelfContact, the_side_of_the_gap_names_the_region) {
   EXPECT_EQ(background.faces, r.contacts.faces);
   for (const ContactRegion& region : background.regions) EXPECT_FALSE(region.across_object);
   EXPECT_NE(describe_contacts(background)[1].find("slit of background"), std::string::npos);
+}
+
+// The contact search flags the faces on several threads: the flags, the
+// gaps' midpoints and the regions are the same for any thread count.
+TEST(SelfContact, contact_flags_are_the_same_for_any_thread_count) {
+  const Vec3 c = shell_grid().center();
+  const Volume shell = noisy_shell();
+  const PipelineResult r = extract_surface(shell, grown_from(c + Vec3(11.0, 0.0, 0.0)));
+  ASSERT_TRUE(r.failure.empty()) << r.failure;
+  ASSERT_GT(r.mesh.n_faces(), 2000u);  // several chunks per thread
+  const double distance = shell.voxel_size();
+  std::vector<Vec3> gaps_one;
+  const std::vector<char> one = contact_faces(r.mesh, distance, &gaps_one, 1);
+  ASSERT_GT(std::count(one.begin(), one.end(), 1), 0) << "no contact to compare";
+  const ContactReport report_one = find_self_contacts(r.mesh, distance, {}, 1);
+  for (int threads : {2, 3, 8}) {
+    std::vector<Vec3> gaps;
+    EXPECT_EQ(contact_faces(r.mesh, distance, &gaps, threads), one) << threads << " threads";
+    ASSERT_EQ(gaps.size(), gaps_one.size());
+    for (std::size_t i = 0; i < gaps.size(); ++i)
+      ASSERT_EQ(gaps[i], gaps_one[i]) << "face " << i << ", " << threads << " threads";
+    const ContactReport report = find_self_contacts(r.mesh, distance, {}, threads);
+    EXPECT_EQ(report.faces, report_one.faces) << threads << " threads";
+    EXPECT_EQ(report.area, report_one.area) << threads << " threads";
+    ASSERT_EQ(report.regions.size(), report_one.regions.size()) << threads << " threads";
+    for (std::size_t k = 0; k < report.regions.size(); ++k) {
+      EXPECT_EQ(report.regions[k].faces, report_one.regions[k].faces);
+      EXPECT_EQ(report.regions[k].centre, report_one.regions[k].centre);
+    }
+  }
 }
 
 }  // namespace

@@ -764,7 +764,7 @@ std::size_t Deformer::refine_where_blocked(int cycle) {
   }
   round_start_.resize(mesh_.n_vertices());
   for (auto v : mesh_.vertices()) round_start_[static_cast<std::size_t>(v.idx())] = to_eigen(mesh_.point(v));
-  const std::vector<char> met = contact_faces(mesh_, 2.5 * voxel_);
+  const std::vector<char> met = contact_faces(mesh_, 2.5 * voxel_, nullptr, threads_);
   std::vector<double> floor_area(mesh_.n_faces(), finest);
   for (auto f : mesh_.faces()) {
     const double area = 0.5 * face_normal_area(f);
@@ -1127,8 +1127,9 @@ std::vector<char> Deformer::edges_between(const std::vector<char>& flagged) cons
 // itself across a sliver of background (contact_faces).
 std::vector<char> Deformer::pleat_vertices(bool flaps_only) const {
   std::vector<Vec3> middles;
-  const std::vector<char> met = flaps_only ? std::vector<char>(mesh_.n_faces(), 0) : contact_faces(mesh_, voxel_);
-  const std::vector<char> thin = thin_faces(mesh_, voxel_, &middles);
+  const std::vector<char> met =
+      flaps_only ? std::vector<char>(mesh_.n_faces(), 0) : contact_faces(mesh_, voxel_, nullptr, threads_);
+  const std::vector<char> thin = thin_faces(mesh_, voxel_, &middles, threads_);
   std::vector<char> pleat(mesh_.n_vertices(), 0);
   for (auto f : mesh_.faces()) {
     const std::size_t i = static_cast<std::size_t>(f.idx());

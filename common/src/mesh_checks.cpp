@@ -25,11 +25,17 @@ struct FaceData {
   Vec3 lo, hi;  // bounding box
 };
 
-std::vector<FaceData> collect_faces(const Mesh& mesh) {
-  std::vector<FaceData> faces;
-  faces.reserve(mesh.n_faces());
-  for (const auto f : mesh.faces()) {
-    FaceData data;
+// The faces in index order. Filled in parallel, each slot by its own
+// iteration, then compacted in order: the list does not depend on the
+// thread count (the checks of an 832,038-face CT model gathered it four
+// times, sequentially: 16 % of the checks' time, issue 17).
+std::vector<FaceData> collect_faces(const Mesh& mesh, int threads = 1) {
+  std::vector<FaceData> slots(mesh.n_faces());
+  std::vector<char> valid(mesh.n_faces(), 0);
+  parallel_for(slots.size(), resolve_thread_count(threads), [&](std::size_t i) {
+    const Mesh::FaceHandle f(static_cast<int>(i));
+    if (mesh.has_face_status() && mesh.status(f).deleted()) return;
+    FaceData& data = slots[i];
     int k = 0;
     for (const auto v : mesh.fv_range(f)) {
       if (k == 3) break;  // TriMesh faces have three corners
@@ -37,12 +43,16 @@ std::vector<FaceData> collect_faces(const Mesh& mesh) {
       data.ids[k] = v.idx();
       ++k;
     }
-    if (k != 3) continue;
+    if (k != 3) return;
     data.lo = data.points[0].cwiseMin(data.points[1]).cwiseMin(data.points[2]);
     data.hi = data.points[0].cwiseMax(data.points[1]).cwiseMax(data.points[2]);
-    faces.push_back(data);
-  }
-  return faces;
+    valid[i] = 1;
+  });
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < slots.size(); ++i)
+    if (valid[i]) slots[kept++] = slots[i];
+  slots.resize(kept);
+  return slots;
 }
 
 inline bool boxes_overlap(const FaceData& a, const FaceData& b) {
@@ -131,8 +141,9 @@ int genus(const Mesh& mesh) {
   return (2 * connected_components(mesh) - chi) / 2;
 }
 
-std::size_t self_intersecting_pairs(const Mesh& mesh, int threads) {
-  const std::vector<FaceData> faces = collect_faces(mesh);
+namespace {
+
+std::size_t intersecting_pairs_among(const std::vector<FaceData>& faces, int threads) {
   const int n = static_cast<int>(faces.size());
   if (n < 2) return 0;
 
@@ -230,7 +241,7 @@ std::size_t self_intersecting_pairs(const Mesh& mesh, int threads) {
   return pairs;
 }
 
-double enclosed_volume(const Mesh& mesh) {
+double volume_of(const Mesh& mesh, const std::vector<FaceData>& faces) {
   // Sum of signed tetrahedra (reference, a, b, c); the reference point is the
   // bounding-box centre, which keeps the terms small for meshes far from the
   // origin (the sum does not depend on it for closed meshes).
@@ -244,7 +255,7 @@ double enclosed_volume(const Mesh& mesh) {
   if (!(lo.array() <= hi.array()).all()) return 0.0;
   const Vec3 reference = 0.5 * (lo + hi);
   double six_volume = 0.0;
-  for (const FaceData& f : collect_faces(mesh)) {
+  for (const FaceData& f : faces) {
     const Vec3 a = f.points[0] - reference, b = f.points[1] - reference,
                c = f.points[2] - reference;
     six_volume += a.dot(b.cross(c));
@@ -252,29 +263,46 @@ double enclosed_volume(const Mesh& mesh) {
   return six_volume / 6.0;
 }
 
-double surface_area(const Mesh& mesh) {
+double area_of(const std::vector<FaceData>& faces) {
   double twice_area = 0.0;
-  for (const FaceData& f : collect_faces(mesh))
+  for (const FaceData& f : faces)
     twice_area +=
         (f.points[1] - f.points[0]).cross(f.points[2] - f.points[0]).norm();
   return 0.5 * twice_area;
 }
 
-double smallest_angle_degrees(const Mesh& mesh) {
-  double smallest = std::numeric_limits<double>::infinity();
-  bool any = false;
-  for (const FaceData& f : collect_faces(mesh)) {
-    any = true;
+// Each face's smallest angle in parallel, their minimum in order (a minimum
+// is exact: the same for any thread count).
+double smallest_angle_of(const std::vector<FaceData>& faces, int threads) {
+  if (faces.empty()) return std::numeric_limits<double>::quiet_NaN();
+  std::vector<double> angle(faces.size());
+  parallel_for(faces.size(), resolve_thread_count(threads), [&](std::size_t i) {
+    const FaceData& f = faces[i];
+    double smallest = std::numeric_limits<double>::infinity();
     for (int k = 0; k < 3; ++k) {
       const Vec3 u = f.points[(k + 1) % 3] - f.points[k];
       const Vec3 w = f.points[(k + 2) % 3] - f.points[k];
       // atan2 of |u x w| and u . w is accurate for small and large angles.
       smallest = std::min(smallest, std::atan2(u.cross(w).norm(), u.dot(w)));
     }
-  }
-  if (!any) return std::numeric_limits<double>::quiet_NaN();
+    angle[i] = smallest;
+  });
+  double smallest = std::numeric_limits<double>::infinity();
+  for (double a : angle) smallest = std::min(smallest, a);
   return smallest * (180.0 / 3.14159265358979323846);
 }
+
+}  // namespace
+
+std::size_t self_intersecting_pairs(const Mesh& mesh, int threads) {
+  return intersecting_pairs_among(collect_faces(mesh, threads), threads);
+}
+
+double enclosed_volume(const Mesh& mesh) { return volume_of(mesh, collect_faces(mesh)); }
+
+double surface_area(const Mesh& mesh) { return area_of(collect_faces(mesh)); }
+
+double smallest_angle_degrees(const Mesh& mesh) { return smallest_angle_of(collect_faces(mesh), 1); }
 
 MeshReport measure(const Mesh& mesh, int threads) {
   MeshReport r;
@@ -287,10 +315,12 @@ MeshReport measure(const Mesh& mesh, int threads) {
   r.genus = genus(mesh);
   r.components = connected_components(mesh);
   r.euler_consistent = euler_consistent(r.euler - count_isolated_vertices(mesh), r.components, r.genus, r.closed);
-  r.self_intersections = self_intersecting_pairs(mesh, threads);
-  r.volume = enclosed_volume(mesh);
-  r.area = surface_area(mesh);
-  r.min_angle_deg = smallest_angle_degrees(mesh);
+  // The face list gathered once for the four measures that read it.
+  const std::vector<FaceData> faces = collect_faces(mesh, threads);
+  r.self_intersections = intersecting_pairs_among(faces, threads);
+  r.volume = volume_of(mesh, faces);
+  r.area = area_of(faces);
+  r.min_angle_deg = smallest_angle_of(faces, threads);
   return r;
 }
 

@@ -369,7 +369,7 @@ PipelineResult run_model(const PreparedModel& p, const PipelineObserver& observe
       r.contacts = find_self_contacts(r.mesh, volume.voxel_size(), [&](const Vec3& x) {
         const double v = volume.sample(x);
         return brighter ? v > t : v < t;
-      });
+      }, p.deform.threads);
     }
     r.check_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - checks).count();
   } else {

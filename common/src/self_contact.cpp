@@ -5,6 +5,7 @@
 #include <unordered_set>
 
 #include "gdm/face_grid.h"
+#include "gdm/parallel.h"
 #include "gdm/text.h"
 #include "gdm/triangle_locator.h"
 
@@ -18,17 +19,23 @@ struct FaceData {
   double area;
 };
 
-std::vector<FaceData> face_data(const Mesh& mesh) {
-  std::vector<FaceData> faces(mesh.n_faces());
-  for (auto f : mesh.faces()) {
-    FaceData& d = faces[static_cast<std::size_t>(f.idx())];
-    int i = 0;
-    for (auto v : mesh.fv_range(f)) d.corners[static_cast<std::size_t>(i++)] = to_eigen(mesh.point(v));
+bool face_is_deleted(const Mesh& mesh, Mesh::FaceHandle f) { return mesh.has_face_status() && mesh.status(f).deleted(); }
+
+// Each face's data written by its own iteration (deleted faces: zero area,
+// skipped by every test).
+std::vector<FaceData> face_data(const Mesh& mesh, int threads) {
+  std::vector<FaceData> faces(mesh.n_faces());  // value-initialized: zeros
+  parallel_for(faces.size(), threads, [&](std::size_t i) {
+    const Mesh::FaceHandle f(static_cast<int>(i));
+    if (face_is_deleted(mesh, f)) return;
+    FaceData& d = faces[i];
+    int k = 0;
+    for (auto v : mesh.fv_range(f)) d.corners[static_cast<std::size_t>(k++)] = to_eigen(mesh.point(v));
     d.centroid = (d.corners[0] + d.corners[1] + d.corners[2]) / 3.0;
     const Vec3 n = (d.corners[1] - d.corners[0]).cross(d.corners[2] - d.corners[0]);
     d.area = 0.5 * n.norm();
     d.normal = d.area > 0.0 ? Vec3(n.normalized()) : Vec3::Zero();
-  }
+  });
   return faces;
 }
 
@@ -51,10 +58,35 @@ int find_root(std::vector<int>& parent, int i) {
   return i;
 }
 
-// contact_faces over face data already computed; with `behind`, the other
-// face lies behind f (the model is thin there) instead of in front of it.
+// Is face f in contact (contact_faces' definition)? Writes its gap's midpoint
+// when so. With `behind`, the other face lies behind f (the model is thin
+// there, thin_faces) instead of in front of it.
+bool face_in_contact(const Mesh& mesh, const std::vector<FaceData>& faces, const FaceGrid& grid, int f,
+                     double distance, Vec3* gap, bool behind) {
+  const FaceData& a = faces[static_cast<std::size_t>(f)];
+  if (a.area == 0.0) return false;
+  const Vec3 reach = Vec3::Constant(distance);
+  std::unordered_set<int> near;
+  return grid.any_near(a.centroid - reach, a.centroid + reach, [&](int g) {
+    const FaceData& b = faces[static_cast<std::size_t>(g)];
+    if (g == f || b.area == 0.0 || a.normal.dot(b.normal) > -0.5) return false;
+    if (((b.centroid - a.centroid).dot(a.normal) <= 0.0) != behind) return false;  // on the wrong side of f
+    const double d = point_triangle_distance(a.centroid, b.corners);
+    if (d >= distance) return false;
+    if (near.empty()) near = neighbourhood_of(mesh, Mesh::FaceHandle(f));
+    for (auto v : mesh.fv_range(Mesh::FaceHandle(g)))
+      if (near.count(v.idx())) return false;
+    if (gap) *gap = a.centroid + (behind ? -0.5 : 0.5) * d * a.normal;
+    return true;
+  });
+}
+
+// contact_faces over face data already computed. Faces are flagged in
+// parallel: the grid, the face data and the mesh are only read, and each
+// face's flag and gap are written by its own iteration alone (the first
+// contact any_near finds depends on the grid, never on the thread count).
 std::vector<char> faces_in_contact(const Mesh& mesh, const std::vector<FaceData>& faces, double distance,
-                                   std::vector<Vec3>* gaps, bool behind = false) {
+                                   std::vector<Vec3>* gaps, int threads, bool behind = false) {
   std::vector<char> contact(mesh.n_faces(), 0);
   if (gaps) gaps->assign(mesh.n_faces(), Vec3::Zero());
   if (mesh.n_faces() == 0 || !(distance > 0.0)) return contact;
@@ -63,46 +95,29 @@ std::vector<char> faces_in_contact(const Mesh& mesh, const std::vector<FaceData>
     for (int k = 0; k < 3; ++k) longest = std::max(longest, (d.corners[static_cast<std::size_t>(k)] - d.centroid).norm());
   FaceGrid grid;
   grid.rebuild(mesh, std::max(distance, longest), 0.0);
-  for (auto f : mesh.faces()) {
-    const FaceData& a = faces[static_cast<std::size_t>(f.idx())];
-    if (a.area == 0.0) continue;
-    const Vec3 reach = Vec3::Constant(distance);
-    std::unordered_set<int> near;
-    bool found = false;
-    grid.any_near(a.centroid - reach, a.centroid + reach, [&](int g) {
-      const FaceData& b = faces[static_cast<std::size_t>(g)];
-      if (g == f.idx() || b.area == 0.0 || a.normal.dot(b.normal) > -0.5) return false;
-      if (((b.centroid - a.centroid).dot(a.normal) <= 0.0) != behind) return false;  // on the wrong side of f
-      const double d = point_triangle_distance(a.centroid, b.corners);
-      if (d >= distance) return false;
-      if (near.empty()) near = neighbourhood_of(mesh, f);
-      for (auto v : mesh.fv_range(Mesh::FaceHandle(g)))
-        if (near.count(v.idx())) return false;
-      if (gaps) (*gaps)[static_cast<std::size_t>(f.idx())] = a.centroid + (behind ? -0.5 : 0.5) * d * a.normal;
-      found = true;
-      return true;
-    });
-    contact[static_cast<std::size_t>(f.idx())] = found;
-  }
+  parallel_for(faces.size(), threads, [&](std::size_t i) {
+    contact[i] = face_in_contact(mesh, faces, grid, static_cast<int>(i), distance, gaps ? &(*gaps)[i] : nullptr, behind);
+  });
   return contact;
 }
 
 }  // namespace
 
-std::vector<char> contact_faces(const Mesh& mesh, double distance, std::vector<Vec3>* gaps) {
-  return faces_in_contact(mesh, face_data(mesh), distance, gaps);
+std::vector<char> contact_faces(const Mesh& mesh, double distance, std::vector<Vec3>* gaps, int threads) {
+  return faces_in_contact(mesh, face_data(mesh, threads), distance, gaps, threads);
 }
 
-std::vector<char> thin_faces(const Mesh& mesh, double distance, std::vector<Vec3>* middles) {
-  return faces_in_contact(mesh, face_data(mesh), distance, middles, true);
+std::vector<char> thin_faces(const Mesh& mesh, double distance, std::vector<Vec3>* middles, int threads) {
+  return faces_in_contact(mesh, face_data(mesh, threads), distance, middles, threads, true);
 }
 
-ContactReport find_self_contacts(const Mesh& mesh, double distance, const std::function<bool(const Vec3&)>& object_side) {
+ContactReport find_self_contacts(const Mesh& mesh, double distance, const std::function<bool(const Vec3&)>& object_side,
+                                 int threads) {
   ContactReport report;
   if (mesh.n_faces() == 0 || !(distance > 0.0)) return report;
-  const std::vector<FaceData> faces = face_data(mesh);
+  const std::vector<FaceData> faces = face_data(mesh, threads);
   std::vector<Vec3> gap;
-  const std::vector<char> contact = faces_in_contact(mesh, faces, distance, &gap);
+  const std::vector<char> contact = faces_in_contact(mesh, faces, distance, &gap, threads);
 
   // Edge-connected regions, in face order (deterministic).
   std::vector<int> parent(faces.size());

@@ -106,6 +106,27 @@ std::vector<Mesh::FaceHandle> bad_faces(const Mesh& mesh, double bound) {
   return out;
 }
 
+// bad_faces() among `candidates` (face indices, repeats allowed): the same
+// list when the candidates hold every face below the bound.
+std::vector<Mesh::FaceHandle> bad_among(const Mesh& mesh, std::vector<int> candidates, double bound) {
+  std::sort(candidates.begin(), candidates.end());
+  candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+  std::vector<std::pair<double, int>> bad;
+  const double sin2_bound = sin2_of(bound);
+  for (int i : candidates) {
+    const Mesh::FaceHandle f(i);
+    if (mesh.has_face_status() && mesh.status(f).deleted()) continue;
+    if (bound < 90.0 && certainly_not_below(mesh, f, sin2_bound)) continue;
+    const double a = face_min_angle(mesh, f);
+    if (a < bound) bad.emplace_back(a, i);
+  }
+  std::sort(bad.begin(), bad.end());
+  std::vector<Mesh::FaceHandle> out;
+  out.reserve(bad.size());
+  for (const auto& b : bad) out.emplace_back(b.second);
+  return out;
+}
+
 class QualityPass {
  public:
   QualityPass(Mesh& mesh, const QualityOptions& o) : mesh_(mesh), o_(o), bound_(o.min_angle + kMargin) {}
@@ -117,7 +138,12 @@ class QualityPass {
   // vertices by a float spacing, which may change an angle by ~1e-4 degrees.
   static constexpr double kMargin = 0.01;
 
-  void new_guard();
+  void guard_is_stale() { guard_current_ = false; }
+  std::vector<Mesh::FaceHandle> bad();
+  void watch_faces_around(Mesh::VertexHandle v) {
+    for (auto f : mesh_.vf_range(v)) watch_.push_back(f.idx());
+  }
+  void collect_garbage();
   bool try_flip(Mesh::EdgeHandle e);
   std::size_t flip_phase();
   std::size_t split_phase();
@@ -134,7 +160,15 @@ class QualityPass {
   double max_error_ = 0.0;  // the error bound of the current tier, mm
   double voxel_ = 1.0;  // mean edge length, a length scale for tolerances
   std::unique_ptr<IntersectionGuard> guard_;
-  bool guard_wanted_ = false;  // the current phase checks its changes (guard() builds it)
+  // guard_ holds every face's present box: guard() uses it as it is. The
+  // flips and moves register their faces; splits and collapses make it stale.
+  bool guard_current_ = false;
+  // Every face that may be below the bound (issue 17: the phases scanned
+  // every face for them, five times a round, a quarter of the pass on the
+  // MRI head): the faces found below it at the last look, and every face an
+  // operation changed since (flips, splits, collapses, moves). A face outside
+  // keeps its angles, hence stays above the bound.
+  std::vector<int> watch_;
   IntersectionGuard* guard();
   QualityResult result_;
   // The caps split this round: the foot m on the long edge bc, the apex a, d across.
@@ -144,18 +178,46 @@ class QualityPass {
   std::vector<Split> split_;
 };
 
-void QualityPass::new_guard() {
-  guard_.reset();
-  guard_wanted_ = o_.prevent_self_intersection;
+// The guard, built or rebuilt at the first question after a change it did
+// not hear of (issue 17: a rebuild over every face per phase, most phases
+// asking nothing or little; the mesh does not change before the first
+// question, every change needing a yes). One guard serves the whole pass: a
+// rebuild reuses its grid's cells, and a flip phase after the relaxation
+// keeps it as it is, since the moves registered their faces (and a flip its
+// two). Its grid then offers every face a rebuild would (perhaps more, under
+// the boxes they had), and each answer is a yes or no over all of them: the
+// same answers as a guard built afresh, without a pass over every face.
+IntersectionGuard* QualityPass::guard() {
+  if (!o_.prevent_self_intersection) return nullptr;
+  if (!guard_)
+    guard_ = std::make_unique<IntersectionGuard>(mesh_, 0.01 * voxel_, 1e-12 * voxel_ * voxel_);
+  else if (!guard_current_)
+    guard_->rebuild();
+  guard_current_ = true;
+  return guard_.get();
 }
 
-// The phase's guard, built at its first question (issue 17: a rebuild over
-// every face per phase, most phases asking nothing or little; the mesh does
-// not change before the first question, every change needing a yes).
-IntersectionGuard* QualityPass::guard() {
-  if (!guard_ && guard_wanted_)
-    guard_ = std::make_unique<IntersectionGuard>(mesh_, 0.01 * voxel_, 1e-12 * voxel_ * voxel_);
-  return guard_.get();
+// The faces below the bound, worst first (ties by index): bad_faces() over
+// the watched faces, which hold all of them.
+std::vector<Mesh::FaceHandle> QualityPass::bad() {
+  std::vector<Mesh::FaceHandle> list = bad_among(mesh_, watch_, bound_);
+  watch_.clear();
+  for (auto f : list) watch_.push_back(f.idx());
+  return list;
+}
+
+// The mesh's garbage collection, the watched faces renumbered with it.
+void QualityPass::collect_garbage() {
+  std::vector<Mesh::FaceHandle> kept;
+  for (int i : watch_)
+    if (!mesh_.status(Mesh::FaceHandle(i)).deleted()) kept.emplace_back(i);
+  std::vector<Mesh::VertexHandle*> vertices;
+  std::vector<Mesh::HalfedgeHandle*> halfedges;
+  std::vector<Mesh::FaceHandle*> faces;
+  for (auto& f : kept) faces.push_back(&f);
+  mesh_.garbage_collection(vertices, halfedges, faces);
+  watch_.clear();
+  for (auto f : kept) watch_.push_back(f.idx());
 }
 
 // Flips e when that raises the smallest angle of its two faces, keeps their
@@ -188,13 +250,14 @@ bool QualityPass::try_flip(Mesh::EdgeHandle e) {
   const Mesh::VertexHandle quad[4] = {v0, b, v1, a};
   if (guard() && !guard()->flip_is_safe(e, quad)) return false;
   mesh_.flip(e);
+  watch_.push_back(mesh_.face_handle(h0).idx());
+  watch_.push_back(mesh_.face_handle(h1).idx());
   return true;
 }
 
 std::size_t QualityPass::flip_phase() {
-  new_guard();
   std::size_t flips = 0;
-  for (auto f : bad_faces(mesh_, bound_)) {
+  for (auto f : bad()) {
     if (face_min_angle(mesh_, f) >= bound_) continue;  // an earlier flip fixed it
     // The edges of the face, longest first (a cap's long edge, a needle's long sides).
     std::vector<std::pair<double, int>> edges;
@@ -221,7 +284,7 @@ std::size_t QualityPass::split_phase() {
   std::vector<Mesh::VertexHandle> apexes, opposite;
   std::vector<Vec3> feet;
   std::vector<char> marked(mesh_.n_edges(), 0);
-  for (auto f : bad_faces(mesh_, bound_)) {
+  for (auto f : bad()) {
     Mesh::HalfedgeHandle longest;
     double best = -1.0;
     for (auto h : mesh_.fh_range(f))
@@ -259,9 +322,12 @@ std::size_t QualityPass::split_phase() {
     const auto mid = mesh_.add_vertex(to_point(feet[i]));
     mesh_.property(gen, mid) = g;
     mesh_.split(mesh_.edge_handle(h), mid);
+    watch_faces_around(mid);
     split_.push_back({mid, apexes[i], edges[i].first, edges[i].second, opposite[i]});
     ++splits;
   }
+  // The split faces shrink inside their registered boxes: the guard needs only the new ones.
+  if (guard_current_) guard_->note_new_faces();
   return splits;
 }
 
@@ -279,7 +345,7 @@ std::size_t QualityPass::collapse_phase() {
   co.min_angle = 0.0;  // the floor is ours: the smallest angle around the edge must rise
   CollapseChecker checker(mesh_, 2.0 * voxel_);
   std::size_t collapses = 0;
-  for (auto f : bad_faces(mesh_, bound_)) {
+  for (auto f : bad()) {
     if (mesh_.status(f).deleted() || face_min_angle(mesh_, f) >= bound_) continue;
     // The face's edges, shortest first, each either way.
     std::vector<std::pair<double, int>> edges;
@@ -313,6 +379,7 @@ std::size_t QualityPass::collapse_phase() {
       if (max_error_ > 0.0 && distance_to(pos(mesh_, v0), created) > max_error_) continue;
       mesh_.collapse(h);
       checker.note_vertex(v1);
+      watch_faces_around(v1);
       ++collapses;
       break;
     }
@@ -330,9 +397,15 @@ std::size_t QualityPass::collapse_phase() {
     const auto h = mesh_.find_halfedge(t.m, t.b);
     if (!same || !h.is_valid() || !collapse_keeps_topology(mesh_, h)) continue;
     mesh_.collapse(h);
+    watch_faces_around(t.b);
     ++undone_;
   }
-  mesh_.garbage_collection();
+  // Collapses move faces and the garbage collection renumbers them; with
+  // none (and no face deleted before), it has nothing to collect and the
+  // guard stays as it is.
+  const std::size_t faces_before = mesh_.n_faces();
+  collect_garbage();
+  if (collapses + undone_ > 0 || mesh_.n_faces() != faces_before) guard_is_stale();
   return collapses;
 }
 
@@ -413,7 +486,8 @@ bool QualityPass::try_relax(Mesh::VertexHandle v) {
     if (o_.obstacle && o_.obstacle->blocks_move(mesh_, v, c.q)) continue;
     if (guard() && !guard()->move_is_safe(v, c.q)) continue;
     mesh_.set_point(v, to_point(c.q));
-    if (guard_)
+    watch_faces_around(v);
+    if (guard_ && guard_current_)
       for (auto f : mesh_.vf_range(v)) guard_->note_face(f);
     return true;
   }
@@ -421,10 +495,9 @@ bool QualityPass::try_relax(Mesh::VertexHandle v) {
 }
 
 std::size_t QualityPass::relax_phase() {
-  new_guard();
   // The corners of the faces below the bound, in vertex order.
   std::vector<int> vertices;
-  for (auto f : bad_faces(mesh_, bound_))
+  for (auto f : bad())
     for (auto v : mesh_.fv_range(f)) vertices.push_back(v.idx());
   std::sort(vertices.begin(), vertices.end());
   vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
@@ -441,6 +514,7 @@ QualityResult QualityPass::run() {
     voxel_ = std::max(sum / static_cast<double>(mesh_.n_edges()), 1e-300);
   }
   if (o_.min_angle > 0.0 && mesh_.n_faces() > 0) {
+    for (auto f : bad_faces(mesh_, bound_)) watch_.push_back(f.idx());
     // Tiers of the error bound: the operations within max_error first; the
     // faces still below the bound then get up to 2.5 and 5 times that (few
     // faces: the mean and the 95th percentile barely move).
@@ -448,7 +522,7 @@ QualityResult QualityPass::run() {
       max_error_ = o_.max_error * tier;
       undo_splits_ = tier == 5.0 || !(o_.max_error > 0.0);
       for (int round = 0; round < o_.rounds; ++round) {
-        if (bad_faces(mesh_, bound_).empty()) break;
+        if (bad().empty()) break;
         const std::size_t flips = flip_phase();
         const std::size_t splits = split_phase();
         std::size_t splits_made = splits;
@@ -462,8 +536,8 @@ QualityResult QualityPass::run() {
         if (flips + splits_made + collapses + moves == 0) break;
       }
       // Flips that help after the last moves.
-      if (!bad_faces(mesh_, bound_).empty()) result_.flips += flip_phase();
-      if (bad_faces(mesh_, bound_).empty() || !(o_.max_error > 0.0)) break;
+      if (!bad().empty()) result_.flips += flip_phase();
+      if (bad().empty() || !(o_.max_error > 0.0)) break;
     }
   }
   guard_.reset();

@@ -35,21 +35,26 @@ struct ContactReport {
 // midpoints vote for "across the object" (the model grew around something
 // from two sides) or "across the background" (a thin slit of background
 // between two parts of the object); without it every region counts as across
-// the object.
+// the object. `threads` worker threads (0 = all cores); the report does not
+// depend on it.
 ContactReport find_self_contacts(const Mesh& mesh, double distance,
-                                 const std::function<bool(const Vec3&)>& object_side = {});
+                                 const std::function<bool(const Vec3&)>& object_side = {}, int threads = 0);
 
 // The faces of `mesh` in contact as find_self_contacts defines it (1 =
 // in contact, by face index), and for each the midpoint of its gap (`gaps`,
-// when given).
-std::vector<char> contact_faces(const Mesh& mesh, double distance, std::vector<Vec3>* gaps = nullptr);
+// when given), on `threads` worker threads (0 = all cores; the result does
+// not depend on it).
+std::vector<char> contact_faces(const Mesh& mesh, double distance, std::vector<Vec3>* gaps = nullptr,
+                                int threads = 0);
 
 // The faces of `mesh` with another face behind them (opposite normals, not
 // neighbours as above) closer than `distance` (mm): where the model is
 // thinner than that. A shrinking model folded over on itself has them (a
 // flap); a model of an object thicker than `distance` has none. `middles`
-// (when given) receives the midpoint of each one's thickness.
-std::vector<char> thin_faces(const Mesh& mesh, double distance, std::vector<Vec3>* middles = nullptr);
+// (when given) receives the midpoint of each one's thickness. `threads` as
+// for contact_faces.
+std::vector<char> thin_faces(const Mesh& mesh, double distance, std::vector<Vec3>* middles = nullptr,
+                             int threads = 0);
 
 // One log line per region (at most `limit`, the largest), saying what it
 // means; empty when there is no contact.
