@@ -11,6 +11,7 @@
 #include "gdm/phantoms.h"
 #include "gdm/pipeline.h"
 #include "gdm/seeding.h"
+#include "gdm/self_contact.h"
 #include "mesh_expectations.h"
 
 namespace {
@@ -71,6 +72,67 @@ TEST(Shrink, the_automatic_seed_shrinks_onto_convex_shapes_without_fins) {
       const ph::DistanceStats d = ph::vertex_distances(r.mesh, shape.distance, v.voxel_size());
       EXPECT_LE(d.mean, 0.1) << shape.name << " noise " << noise << ": p95 " << d.p95 << " max " << d.max;
       EXPECT_LE(d.p95, 0.5) << shape.name << " noise " << noise;
+    }
+}
+
+// A molar-like shape (a crown and three roots that part below it, concave
+// skirts between them, like the tooth's furcation) and the nerve-sized
+// branching shape: a shrinking surface loses area in the concave skirts and
+// folded over on itself there (pleats) until smooth_pleats (deformer.cpp).
+// Noise 3 and 8 %: contacts and flaps (the model thinner than a voxel with
+// background inside) on at most 0.2 % of the area, within 0.15 voxel on
+// average; the molar within 0.1 and no vertex more than 1.5 voxels away.
+// Measured: molar mean 0.044-0.053, max 0.55-0.93, contacts 0.2-3.6 mm^2;
+// the branching shape keeps a few vertices in the forks between its
+// branches 3.4 to 5.9 voxels out (mean 0.116-0.138), and the sub-voxel fit
+// and the triangle-quality pass bring back 1-3 mm^2 of contact after the
+// last smoothing (not asserted: recorded for the next step).
+TEST(Shrink, concave_shapes_are_shrunk_onto_without_pleats) {
+  ph::Grid g;
+  g.dims = {64, 64, 72};
+  const Vec3 c = g.center();
+  const Vec3 crown = c + Vec3(0.0, 0.0, 14.0);
+  std::vector<Case> cases;
+  std::vector<ph::Sdf> parts{ph::ellipsoid(crown, Vec3(17.0, 14.0, 10.0))};
+  for (int k = 0; k < 3; ++k) {
+    const double angle = 2.0 * M_PI * k / 3.0;
+    const Vec3 out(std::cos(angle), std::sin(angle), 0.0);
+    parts.push_back(ph::capsule(crown + 6.0 * out, c + Vec3(0.0, 0.0, -26.0) + 16.0 * out, 5.5));
+  }
+  const ph::Sdf molar = ph::unite(parts);
+  cases.push_back({"molar", g, molar, molar});
+  ph::Grid b;
+  b.dims = {64, 64, 64};
+  const ph::Sdf branching = ph::branching(b.center());
+  cases.push_back({"branching", b, branching, branching});
+  unsigned seed = 70u;
+  for (const Case& shape : cases)
+    for (const double noise : {0.03, 0.08}) {
+      const Volume v = ph::with_gaussian_noise(ph::voxelize(shape.grid, shape.sdf, kLow, kHigh - kLow),
+                                               noise * (kHigh - kLow), ++seed);
+      const PipelineResult r = extract_surface(v, shrink_options());
+      ASSERT_TRUE(r.failure.empty()) << shape.name << ": " << r.failure;
+      test::expect_valid_closed_surface(r.mesh);
+      const double voxel = v.voxel_size();
+      std::vector<Vec3> middles;
+      const std::vector<char> thin = thin_faces(r.mesh, voxel, &middles);
+      double flaps = 0.0;
+      for (auto f : r.mesh.faces())
+        if (thin[static_cast<std::size_t>(f.idx())] && shape.distance(middles[static_cast<std::size_t>(f.idx())]) > 0.0)
+          flaps += r.mesh.calc_face_area(f);
+      const ph::DistanceStats d = ph::vertex_distances(r.mesh, shape.distance, voxel);
+      std::printf("%s noise %.0f %%: %zu faces, contacts %.1f mm^2, flaps %.1f mm^2, pleat vertices smoothed %zu; "
+                  "mean %.3f p95 %.3f max %.3f voxels\n",
+                  shape.name, 100.0 * noise, r.mesh.n_faces(), r.contacts.area, flaps, r.deform.pleat_vertices, d.mean,
+                  d.p95, d.max);
+      const double area = measure(r.mesh).area;
+      EXPECT_LE(r.contacts.area, 0.002 * area) << shape.name << " noise " << noise;
+      EXPECT_LE(flaps, 0.002 * area) << shape.name << " noise " << noise;
+      EXPECT_LE(d.mean, 0.15) << shape.name << " noise " << noise;
+      if (std::string(shape.name) == "molar") {
+        EXPECT_LE(d.mean, 0.1) << "noise " << noise;
+        EXPECT_LE(d.max, 1.5) << "noise " << noise;
+      }
     }
 }
 
