@@ -61,6 +61,7 @@ std::string summary_text(const RunRecord& r) {
   part(r.model.fit_moves, "fit moves");
   part(r.model.lod_splits, "lod splits");
   part(r.model.lod_collapses, "lod collapses");
+  part(r.model.pleat_vertices, "pleat vertices smoothed (shrinking)");
   part(r.model.quality_flips, "quality flips");
   part(r.model.quality_splits, "quality splits");
   part(r.model.quality_collapses, "quality collapses");
@@ -176,6 +177,7 @@ std::string report_json(const RunRecord& r, const Options& options) {
       .add("fit_moves", json_number(r.model.fit_moves))
       .add("lod_splits", json_number(r.model.lod_splits))
       .add("lod_collapses", json_number(r.model.lod_collapses))
+      .add("pleat_vertices", json_number(r.model.pleat_vertices))
       .add("quality_flips", json_number(r.model.quality_flips))
       .add("quality_splits", json_number(r.model.quality_splits))
       .add("quality_collapses", json_number(r.model.quality_collapses))

@@ -638,6 +638,7 @@ py::dict model_report(const gdm::DeformResult& r, double seconds, double check_s
   d["fit_moves"] = r.fit_moves;
   d["lod_splits"] = r.lod_splits;
   d["lod_collapses"] = r.lod_collapses;
+  d["pleat_vertices"] = r.pleat_vertices;
   d["quality_flips"] = r.quality_flips;
   d["quality_splits"] = r.quality_splits;
   d["quality_collapses"] = r.quality_collapses;
