@@ -296,6 +296,7 @@ std::size_t collapse_flat_edges(Mesh& mesh, const Volume* volume, double thresho
     if (o.max_length < std::numeric_limits<double>::infinity() && mesh.calc_edge_length(e) >= o.max_length) continue;
     for (int side = 0; side < 2; ++side) {
       const auto h = mesh.halfedge_handle(e, side);
+      if (o.removable && !(*o.removable)[static_cast<std::size_t>(mesh.from_vertex_handle(h).idx())]) continue;
       if (!collapse_keeps_topology(mesh, h)) continue;
       if (!checker.geometry_ok(h, o)) continue;
       if (volume && o.tolerance > 0.0) {

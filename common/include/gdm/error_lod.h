@@ -57,6 +57,7 @@ struct CollapseOptions {
   double max_normal_change = 45.0;  // a new face turns at most this much from the old one, degrees
   double max_length = std::numeric_limits<double>::infinity();  // only edges shorter than this, mm
   const std::vector<char>* only_edges = nullptr;  // when given: only the edges flagged here (by index)
+  const std::vector<char>* removable = nullptr;   // when given: only the vertices flagged here (by index) go
 };
 
 // Checks collapses geometrically against the whole mesh: a uniform grid over
