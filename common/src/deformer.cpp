@@ -1050,12 +1050,13 @@ void Deformer::restart_stage(int cycle) {
 // it loses it faster than its faces can follow it folds over on itself. On
 // the whole tooth, shrunk onto from outside, 180 such pleats in the concave
 // skirt between the roots: two parts of the model two to a dozen face rings
-// apart face each other across a sliver of background (contact_faces).
-// Once a stage converges, the vertices of those faces and two rings around
-// them move toward the centroid of their neighbours (a Laplacian smoothing,
-// which unfolds a fold, each move checked by the guard), and the stage goes
-// on, so the image pulls them back onto the object. Returns the vertices
-// smoothed (0: no pleat).
+// apart face each other across a sliver of background (contact_faces),
+// flaps, needles and knots of sliver faces (pleat_vertices). Once a stage
+// converges, the knots' and flaps' edges are collapsed, then the pleats'
+// vertices and two rings around them move toward the centroid of their
+// neighbours (a Laplacian smoothing, which unfolds a fold, each move checked
+// by the guard), and the stage goes on, so the image pulls them back onto
+// the object. Returns the collapses and the vertices smoothed (0: no pleat).
 std::size_t Deformer::smooth_pleats(int cycle) {
   // Where it crumpled, its faces shrank to slivers a small fraction of a
   // voxel across, folded into knots that stand out of the surface and that
@@ -1281,9 +1282,7 @@ DeformResult Deformer::run() {
     const bool done = converged(cycle);
     clock.add_to(stage_clock());
     if (!done) continue;
-    // Local refinement where faces are too large to enter what lies ahead,
-    // once the last stage converged (the model is then as fine as the level
-    // of detail asks everywhere else; refined vertices may travel).
+    // A shrinking model's pleats, after each stage's convergence.
     if (o_.mode == Mode::shrink && !o_.obstacle && pleat_rounds_ < kPleatRounds) {
       ++pleat_rounds_;
       const std::size_t smoothed = smooth_pleats(cycle);
@@ -1291,6 +1290,9 @@ DeformResult Deformer::run() {
       if (smoothed > 0) continue;
       pleat_rounds_ = kPleatRounds;
     }
+    // Local refinement where faces are too large to enter what lies ahead,
+    // once the last stage converged (the model is then as fine as the level
+    // of detail asks everywhere else; refined vertices may travel).
     std::size_t asked = 0;
     if (o_.refine_channels && report_.stage == o_.global_refinements && local_rounds_ < 16 &&
         (asked = refine_where_blocked(cycle)) > 0) {

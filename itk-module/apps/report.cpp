@@ -61,7 +61,7 @@ std::string summary_text(const RunRecord& r) {
   part(r.model.fit_moves, "fit moves");
   part(r.model.lod_splits, "lod splits");
   part(r.model.lod_collapses, "lod collapses");
-  part(r.model.pleat_vertices, "pleat vertices smoothed (shrinking)");
+  part(r.model.pleat_vertices, "pleat collapses and smoothed vertices (shrinking)");
   part(r.model.quality_flips, "quality flips");
   part(r.model.quality_splits, "quality splits");
   part(r.model.quality_collapses, "quality collapses");

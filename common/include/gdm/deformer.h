@@ -165,7 +165,7 @@ struct DeformResult {
   std::size_t bridge_vertices = 0;       // vertices of the caps over bridged openings
   int channel_rounds = 0;                // rounds of local refinement into channels (refine_channels)
   std::size_t channel_faces = 0;         // faces that asked for it, all rounds together
-  std::size_t pleat_vertices = 0;        // shrinking: vertices smoothed where the model folded over on itself
+  std::size_t pleat_vertices = 0;        // shrinking: edges collapsed and vertices smoothed where the model folded over on itself
   std::size_t cavities = 0;              // enclosed regions of background filled before growing
                                          // (fill_cavities), of at least kCavitySpeckVoxels voxels
   std::size_t cavity_voxels = 0;         // their voxels
