@@ -275,7 +275,11 @@ class Deformer {
   std::size_t relax_bridges();
   std::size_t smooth_pleats(int cycle);
   std::size_t collapse_edges(const CollapseOptions& c);
-  std::vector<char> pleat_vertices(bool flaps_only) const;
+  struct PleatMasks {
+    std::vector<char> flaps;  // flaps and needles, by vertex
+    std::vector<char> all;    // those and the faces in contact across background
+  };
+  PleatMasks find_pleats() const;
   std::vector<char> grow_by_rings(std::vector<char> flagged, int rings) const;
   Vec3 face_normal_of(Mesh::FaceHandle f) const;
   std::vector<char> in_background(const std::vector<char>& flagged) const;
@@ -1051,7 +1055,7 @@ void Deformer::restart_stage(int cycle) {
 // the whole tooth, shrunk onto from outside, 180 such pleats in the concave
 // skirt between the roots: two parts of the model two to a dozen face rings
 // apart face each other across a sliver of background (contact_faces),
-// flaps, needles and knots of sliver faces (pleat_vertices). Once a stage
+// flaps, needles and knots of sliver faces (find_pleats). Once a stage
 // converges, the knots' and flaps' edges are collapsed, then the pleats'
 // vertices and two rings around them move toward the centroid of their
 // neighbours (a Laplacian smoothing, which unfolds a fold, each move checked
@@ -1066,27 +1070,34 @@ std::size_t Deformer::smooth_pleats(int cycle) {
   c.max_length = kPleatEdge * voxel_;
   c.min_angle = 0.0;
   c.max_normal_change = 180.0;
-  std::vector<char> edges = edges_between(grow_by_rings(pleat_vertices(false), 1));
+  // The searches run again only after collapses changed the mesh.
+  PleatMasks found = find_pleats();
+  std::vector<char> edges = edges_between(grow_by_rings(found.all, 1));
   c.only_edges = &edges;
   std::size_t collapses = collapse_edges(c);
-  if (collapses > 0) restart_stage(cycle);
+  if (collapses > 0) {
+    restart_stage(cycle);
+    found = find_pleats();
+  }
   // Then the edges between the vertices of the flaps, up to the level of
   // detail's length: a spike of model standing out of the surface shrinks
   // to a point. (Not where two parts face each other across background: the
   // object may have a slit thinner than a voxel there, as where the double
   // torus's tubes merge in a V-groove.)
-  const std::vector<char> flaps = pleat_vertices(true);
-  edges = edges_between(flaps);
+  edges = edges_between(found.flaps);
   c.max_length = lod_edge_length(o_, voxel_);
   // Only vertices standing in background go (the kept one may lie on the
   // object): a collapse of the vertices at a flap's foot cut into the object
   // (a dent 3.8 voxels deep into a root of the molar phantom).
-  const std::vector<char> loose = in_background(flaps);
+  const std::vector<char> loose = in_background(found.flaps);
   c.removable = &loose;
   const std::size_t spikes = collapse_edges(c);
-  if (spikes > 0) restart_stage(cycle);
+  if (spikes > 0) {
+    restart_stage(cycle);
+    found = find_pleats();
+  }
   collapses += spikes;
-  const std::vector<char> pleat = grow_by_rings(pleat_vertices(false), kPleatRings);
+  const std::vector<char> pleat = grow_by_rings(found.all, kPleatRings);
   std::vector<Mesh::VertexHandle> vertices;
   for (auto v : mesh_.vertices())
     if (pleat[static_cast<std::size_t>(v.idx())]) vertices.push_back(v);
@@ -1156,20 +1167,23 @@ std::vector<char> Deformer::edges_between(const std::vector<char>& flagged) cons
   return edges;
 }
 
-// The vertices of the faces in a pleat: where the model is thinner than a
-// voxel with background inside it (a flap; a thin part of the object itself
-// is no pleat), and unless `flaps_only`, where it faces another part of
-// itself across a sliver of background (contact_faces).
-std::vector<char> Deformer::pleat_vertices(bool flaps_only) const {
+// The vertices of the pleats. `flaps`: where the model is thinner than a
+// voxel with background inside it (a thin part of the object itself is no
+// pleat), and the needles below. `all`: those and where the model faces
+// another part of itself across a sliver of background (contact_faces).
+Deformer::PleatMasks Deformer::find_pleats() const {
   std::vector<Vec3> middles;
-  const std::vector<char> met =
-      flaps_only ? std::vector<char>(mesh_.n_faces(), 0) : contact_faces(mesh_, voxel_, nullptr, threads_);
+  const std::vector<char> met = contact_faces(mesh_, voxel_, nullptr, threads_);
   const std::vector<char> thin = thin_faces(mesh_, voxel_, &middles, threads_);
-  std::vector<char> pleat(mesh_.n_vertices(), 0);
+  PleatMasks found{std::vector<char>(mesh_.n_vertices(), 0), std::vector<char>(mesh_.n_vertices(), 0)};
+  std::vector<char>& pleat = found.flaps;
   for (auto f : mesh_.faces()) {
     const std::size_t i = static_cast<std::size_t>(f.idx());
-    if (met[i] || (thin[i] && !cost_.image.is_blocked(middles[i])))
-      for (auto v : mesh_.fv_range(f)) pleat[static_cast<std::size_t>(v.idx())] = 1;
+    const bool flap = thin[i] && !cost_.image.is_blocked(middles[i]);
+    for (auto v : mesh_.fv_range(f)) {
+      if (flap) pleat[static_cast<std::size_t>(v.idx())] = 1;
+      if (flap || met[i]) found.all[static_cast<std::size_t>(v.idx())] = 1;
+    }
   }
   // A needle or fin a few faces wide: its sides are neighbours on the mesh,
   // which thin_faces skips, and they meet at an edge folded back on itself
@@ -1182,10 +1196,10 @@ std::vector<char> Deformer::pleat_vertices(bool flaps_only) const {
     if (!(nf.dot(ng) < -0.5)) continue;
     const Vec3 cf = face_centroid(f), cg = face_centroid(g);
     if ((cg - cf).dot(nf) >= 0.0 || cost_.image.is_blocked(0.5 * (cf + cg))) continue;  // a groove, or object
-    pleat[static_cast<std::size_t>(mesh_.from_vertex_handle(h).idx())] = 1;
-    pleat[static_cast<std::size_t>(mesh_.to_vertex_handle(h).idx())] = 1;
+    for (auto v : {mesh_.from_vertex_handle(h), mesh_.to_vertex_handle(h)})
+      pleat[static_cast<std::size_t>(v.idx())] = found.all[static_cast<std::size_t>(v.idx())] = 1;
   }
-  return pleat;
+  return found;
 }
 
 // A vertex the gap gate holds: just outside it, the model's volume is
