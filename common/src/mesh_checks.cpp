@@ -136,9 +136,16 @@ int connected_components(const Mesh& mesh) {
   return components;
 }
 
+namespace {
+
+// chi = 2 (components - genus) over closed components (isolated vertices
+// left out of chi).
+int genus_from(int chi, int components) { return (2 * components - chi) / 2; }
+
+}  // namespace
+
 int genus(const Mesh& mesh) {
-  const int chi = euler_characteristic(mesh) - count_isolated_vertices(mesh);
-  return (2 * connected_components(mesh) - chi) / 2;
+  return genus_from(euler_characteristic(mesh) - count_isolated_vertices(mesh), connected_components(mesh));
 }
 
 namespace {
@@ -312,9 +319,11 @@ MeshReport measure(const Mesh& mesh, int threads) {
   r.closed = is_closed(mesh);
   r.two_manifold = is_two_manifold(mesh);
   r.euler = euler_characteristic(mesh);
-  r.genus = genus(mesh);
+  // The components and chi counted once for the genus and its check.
+  const int chi = r.euler - count_isolated_vertices(mesh);
   r.components = connected_components(mesh);
-  r.euler_consistent = euler_consistent(r.euler - count_isolated_vertices(mesh), r.components, r.genus, r.closed);
+  r.genus = genus_from(chi, r.components);
+  r.euler_consistent = euler_consistent(chi, r.components, r.genus, r.closed);
   // The face list gathered once for the four measures that read it.
   const std::vector<FaceData> faces = collect_faces(mesh, threads);
   r.self_intersections = intersecting_pairs_among(faces, threads);
