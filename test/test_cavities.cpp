@@ -536,5 +536,41 @@ TEST(Cavities, the_tooth_shrunk_onto_from_outside_is_its_outer_surface) {
   EXPECT_EQ(far, 0u);
 }
 
+// A whole-head scan fills dozens of pockets and caps dozens of handles: the
+// log line names the five largest of each kind and counts the rest.
+TEST(Cavities, summaries_name_the_five_largest_regions_and_count_the_rest) {
+  DeformResult r;
+  for (int i = 0; i < 8; ++i) {
+    Cavity handle;
+    handle.kind = CavityKind::handle;
+    handle.voxels = static_cast<std::size_t>(800 - 100 * i);
+    handle.centre = Vec3(i, 0, 0);
+    handle.width = 3.0;
+    r.filled_regions.push_back(handle);
+  }
+  for (int i = 0; i < 3; ++i) {
+    Cavity pocket;
+    pocket.kind = CavityKind::narrow_openings;
+    pocket.voxels = static_cast<std::size_t>(50 - 10 * i);
+    pocket.openings = 1;
+    r.filled_regions.push_back(pocket);
+  }
+  r.handles = 8;
+  r.cavities = r.cavities_behind_openings = 3;
+  r.cavity_voxels = 120;
+  const auto count = [](const std::string& text, const std::string& word) {
+    std::size_t n = 0;
+    for (std::size_t at = text.find(word); at != std::string::npos; at = text.find(word, at + 1)) ++n;
+    return n;
+  };
+  const std::string handles = handle_summary(r), cavities = cavity_summary(r);
+  EXPECT_EQ(count(handles, "; at ("), 5u) << handles;
+  EXPECT_NE(handles.find("; and 3 smaller"), std::string::npos) << handles;
+  EXPECT_NE(handles.find("400 voxels"), std::string::npos) << "the fifth largest is named: " << handles;
+  EXPECT_EQ(handles.find("300 voxels"), std::string::npos) << "the sixth is only counted: " << handles;
+  EXPECT_EQ(count(cavities, "the pocket around"), 3u) << cavities;
+  EXPECT_EQ(cavities.find("smaller"), std::string::npos) << "three pockets are all named: " << cavities;
+}
+
 }  // namespace
 }  // namespace gdm

@@ -227,8 +227,10 @@ TEST(FaceBudgetTargets, impulse_noise_does_not_dent_the_reduced_model) {
     out.mesh = make_icosahedron(k.seed, 3.0);
     out.result = deform(out.mesh, k.volume, o);
     out.distance = test::surface_distances(out.mesh, k.distance, k.volume.voxel_size());
-    std::printf("%s, budget %zu: faces %zu (%zu subdivisions); mean %.4f p95 %.4f max %.4f voxel\n", k.name.c_str(), budget,
-                out.mesh.n_faces(), out.result.budget_subdivisions, out.distance.mean, out.distance.p95, out.distance.max);
+    std::printf("%s, budget %zu: faces %zu (%zu subdivisions, %d channel rounds, %zu faces asked); mean %.4f p95 %.4f "
+                "max %.4f voxel\n",
+                k.name.c_str(), budget, out.mesh.n_faces(), out.result.budget_subdivisions, out.result.channel_rounds,
+                out.result.channel_faces, out.distance.mean, out.distance.p95, out.distance.max);
     expect_budget_met(out, k.name);
     EXPECT_GT(out.result.budget_subdivisions, 0u);
     EXPECT_LE(out.distance.mean, 0.085) << k.name << ", budget " << budget;

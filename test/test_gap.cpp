@@ -185,14 +185,13 @@ ph::DistanceStats truth_to_model(const Channels& c, const Mesh& mesh) {
   return ph::distance_stats(std::move(d));
 }
 
-TEST(Gap, channels_two_to_four_voxels_wide_are_followed_to_their_ends_at_the_default_level_of_detail_with_refine_channels) {
+TEST(Gap, channels_two_to_four_voxels_wide_are_followed_to_their_ends_at_the_defaults) {
   for (const double noise : {0.03, 0.08}) {
     const Channels c = make_channels(noise, 29u);
     Mesh mesh = make_geodesic_sphere(c.grid.center(), 3.0, 1);
     DeformOptions o;
     o.threshold = kThreshold;
     o.stop_at_border = true;
-    o.refine_channels = true;
     const DeformResult r = deform(mesh, c.volume, o);
     test::expect_valid_closed_surface(mesh);
     EXPECT_EQ(r.reason, StopReason::converged);
@@ -204,6 +203,26 @@ TEST(Gap, channels_two_to_four_voxels_wide_are_followed_to_their_ends_at_the_def
                               << truth.mean << ", p95 " << truth.p95 << ")";
     EXPECT_LE(model.mean, 0.15) << "noise " << noise;
   }
+}
+
+// refine_channels off: the paper's behaviour, the face size decides. The
+// faces of the default level of detail (about 4.8 voxels across) span the
+// mouths of the two- and three-voxel channels: the model stops there.
+TEST(Gap, without_refine_channels_the_face_size_decides_and_narrow_channels_are_bridged) {
+  const Channels c = make_channels(0.03, 29u);
+  Mesh mesh = make_geodesic_sphere(c.grid.center(), 3.0, 1);
+  DeformOptions o;
+  o.threshold = kThreshold;
+  o.stop_at_border = true;
+  o.refine_channels = false;
+  const DeformResult r = deform(mesh, c.volume, o);
+  test::expect_valid_closed_surface(mesh);
+  EXPECT_EQ(r.reason, StopReason::converged);
+  EXPECT_EQ(r.channel_rounds, 0);
+  const ph::DistanceStats truth = truth_to_model(c, mesh);
+  std::printf("channels without refine_channels: %zu faces, truth to model mean %.3f max %.3f voxel\n", mesh.n_faces(),
+              truth.mean, truth.max);
+  EXPECT_GT(truth.max, 5.0) << "a channel narrower than the faces was followed without local refinement";
 }
 
 // A chamber (sphere of radius 9 voxels) with a sheet 5 voxels thick beyond
@@ -234,7 +253,6 @@ TEST(Gap, a_sheet_behind_a_narrow_mouth_is_followed_with_faces_of_its_thickness)
     DeformOptions opt;
     opt.threshold = kThreshold;
     opt.stop_at_border = true;
-    opt.refine_channels = true;
     const DeformResult r = deform(mesh, c.volume, opt);
     test::expect_valid_closed_surface(mesh);
     EXPECT_EQ(r.reason, StopReason::converged) << "noise " << noise;
@@ -265,7 +283,7 @@ TEST(Gap, a_sheet_behind_a_narrow_mouth_is_followed_with_faces_of_its_thickness)
 
 // The benchmark study's "hole in the wall" cases: a dark cavity (a bent
 // tube, a branching shape) in a bright wall 4 voxels thick with a hole of
-// radius 2 voxels. With refine_channels the hole is a channel the model
+// radius 2 voxels. At the defaults (refine_channels) the hole is a channel the model
 // follows out (a leak); a gap above the hole (6 voxels) keeps it in the
 // cavity, which it fits.
 TEST(Gap, tube_and_branching_with_a_hole_in_the_wall_do_not_leak_with_a_gap_above_it) {
@@ -293,7 +311,7 @@ TEST(Gap, tube_and_branching_with_a_hole_in_the_wall_do_not_leak_with_a_gap_abov
     o.threshold = kThreshold;
     o.polarity = Polarity::object_darker;
     o.stop_at_border = true;
-    o.refine_channels = true;  // the hole is then a channel the model follows, unless the gap says otherwise
+    // The hole is a channel the model follows (refine_channels, on by default), unless the gap says otherwise.
     Mesh leaking = make_geodesic_sphere(shape.seed, 2.0, 1);
     EXPECT_EQ(deform(leaking, volume, o).reason, StopReason::border) << shape.name << ": no leak without a gap";
     o.gap = 6.0;
@@ -310,9 +328,9 @@ TEST(Gap, tube_and_branching_with_a_hole_in_the_wall_do_not_leak_with_a_gap_abov
   }
 }
 
-// The real tooth's pulp at the default settings plus refine_channels: its
-// canals are followed.
-TEST(Gap, tooth_pulp_with_refine_channels_follows_the_canals) {
+// The real tooth's pulp at the default settings: its canals are followed
+// (issue 14).
+TEST(Gap, tooth_pulp_at_the_defaults_follows_the_canals) {
   Volume tooth;
   std::string why;
   if (!test::load_tooth(GDM_TEST_SHARED_DIR, tooth, why)) GTEST_SKIP() << why;
@@ -323,7 +341,6 @@ TEST(Gap, tooth_pulp_with_refine_channels_follows_the_canals) {
   o.threshold = test::kToothPulpThreshold;
   o.polarity = Polarity::object_darker;
   o.stop_at_border = true;
-  o.refine_channels = true;
   const DeformResult r = deform(mesh, tooth, o);
   test::expect_valid_closed_surface(mesh);
   EXPECT_EQ(r.reason, StopReason::converged);
@@ -363,7 +380,7 @@ TEST(Gap, tooth_pulp_with_refine_channels_follows_the_canals) {
     if (i >= 0 && j >= 0 && k >= 0 && i < n[0] && j < n[1] && k < n[2] && wide[at(i, j, k)]) in_wide.push_back(e);
   }
   const ph::DistanceStats truth = ph::distance_stats(std::move(all)), wide_truth = ph::distance_stats(std::move(in_wide));
-  std::printf("tooth pulp with refine_channels: %zu faces, volume %.1f vs %.1f flood-filled (%+.1f %%); truth to model mean %.3f "
+  std::printf("tooth pulp at the defaults: %zu faces, volume %.1f vs %.1f flood-filled (%+.1f %%); truth to model mean %.3f "
               "p95 %.3f max %.3f voxel, where the pulp is two voxels wide or more: max %.3f\n",
               mesh.n_faces(), volume, flood, 100.0 * (volume / flood - 1.0), truth.mean, truth.p95, truth.max, wide_truth.max);
   EXPECT_LE(std::abs(volume / flood - 1.0), 0.04);

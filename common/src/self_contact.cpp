@@ -86,7 +86,8 @@ bool face_in_contact(const Mesh& mesh, const std::vector<FaceData>& faces, const
 // face's flag and gap are written by its own iteration alone (the first
 // contact any_near finds depends on the grid, never on the thread count).
 std::vector<char> faces_in_contact(const Mesh& mesh, const std::vector<FaceData>& faces, double distance,
-                                   std::vector<Vec3>* gaps, int threads, bool behind = false) {
+                                   std::vector<Vec3>* gaps, int threads, bool behind = false,
+                                   const std::vector<char>* only = nullptr) {
   std::vector<char> contact(mesh.n_faces(), 0);
   if (gaps) gaps->assign(mesh.n_faces(), Vec3::Zero());
   if (mesh.n_faces() == 0 || !(distance > 0.0)) return contact;
@@ -96,6 +97,7 @@ std::vector<char> faces_in_contact(const Mesh& mesh, const std::vector<FaceData>
   FaceGrid grid;
   grid.rebuild(mesh, std::max(distance, longest), 0.0);
   parallel_for(faces.size(), threads, [&](std::size_t i) {
+    if (only && !(*only)[i]) return;
     contact[i] = face_in_contact(mesh, faces, grid, static_cast<int>(i), distance, gaps ? &(*gaps)[i] : nullptr, behind);
   });
   return contact;
@@ -103,8 +105,9 @@ std::vector<char> faces_in_contact(const Mesh& mesh, const std::vector<FaceData>
 
 }  // namespace
 
-std::vector<char> contact_faces(const Mesh& mesh, double distance, std::vector<Vec3>* gaps, int threads) {
-  return faces_in_contact(mesh, face_data(mesh, threads), distance, gaps, threads);
+std::vector<char> contact_faces(const Mesh& mesh, double distance, std::vector<Vec3>* gaps, int threads,
+                                const std::vector<char>* only) {
+  return faces_in_contact(mesh, face_data(mesh, threads), distance, gaps, threads, false, only);
 }
 
 std::vector<char> thin_faces(const Mesh& mesh, double distance, std::vector<Vec3>* middles, int threads) {

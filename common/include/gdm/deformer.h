@@ -61,12 +61,11 @@ struct DeformOptions {
                                         // own closed component with normals into the cavity, each handle's
                                         // cap opened into a tube through the hole (genus up; topology.h);
                                         // needs fill_cavities
-  bool refine_channels = false;      // once the last stage converged, refine locally where faces are too
+  bool refine_channels = true;       // once the last stage converged, refine locally where faces are too
                                      // large to enter a channel the image shows (so the level of detail
                                      // sets face sizes, the gap where the model goes; inside, faces follow
-                                     // the room's width, channel_width.h); off by default: on the study's
-                                     // CT head it leads the model into thin sheets of the object (skull
-                                     // bone; not noise): faces x1.8, CPU time x3 (README); on for canals
+                                     // the room's width, channel_width.h): the tooth's canals at the
+                                     // defaults (issue 14); off = the face size decides, as in the paper
   int max_cycles = 2000;             // hard limit on deformation cycles, all stages together
   double convergence_tolerance = 0.5;  // a vertex counts as moving beyond this, voxels
   int convergence_window = 5;        // converged when nothing moved for this many cycles

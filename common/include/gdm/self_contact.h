@@ -43,9 +43,10 @@ ContactReport find_self_contacts(const Mesh& mesh, double distance,
 // The faces of `mesh` in contact as find_self_contacts defines it (1 =
 // in contact, by face index), and for each the midpoint of its gap (`gaps`,
 // when given), on `threads` worker threads (0 = all cores; the result does
-// not depend on it).
+// not depend on it). With `only`, just the faces it flags are tested (every
+// face is still a partner they may meet); the others are 0.
 std::vector<char> contact_faces(const Mesh& mesh, double distance, std::vector<Vec3>* gaps = nullptr,
-                                int threads = 0);
+                                int threads = 0, const std::vector<char>* only = nullptr);
 
 // The faces of `mesh` with another face behind them (opposite normals, not
 // neighbours as above) closer than `distance` (mm): where the model is
