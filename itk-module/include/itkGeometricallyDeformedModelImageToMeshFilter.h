@@ -337,6 +337,14 @@ public:
   itkSetMacro(GapSize, double);
   itkGetConstMacro(GapSize, double);
 
+  /** Once the last stage converged, refine locally where faces are too large
+   * to enter a channel the image shows, so channels wider than the gap are
+   * followed at any level of detail (a tooth's canals). On by default; off,
+   * the face size decides where the model goes, as in the paper. */
+  itkSetMacro(RefineChannels, bool);
+  itkGetConstMacro(RefineChannels, bool);
+  itkBooleanMacro(RefineChannels);
+
   /** Growing, fill the background the outside cannot reach (a hollow
    * shell's inside; chambers joined to the outside only through openings
    * narrower than the cavity opening, SetOption("cavity_opening", W), three
@@ -574,6 +582,7 @@ private:
   double        m_MaximumTopologyRatio;
   double        m_RefinementTravel;
   double        m_GapSize;
+  bool          m_RefineChannels;
   bool          m_FillCavities;
   bool          m_SubvoxelFit;
   unsigned int  m_NumberOfFitPasses;

@@ -62,6 +62,7 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::SetDeform
   m_MaximumTopologyRatio = o.max_topology_ratio;
   m_RefinementTravel = o.refinement_travel;
   m_GapSize = o.gap;
+  m_RefineChannels = o.refine_channels;
   m_FillCavities = o.fill_cavities;
   m_SubvoxelFit = o.subvoxel_fit;
   m_NumberOfFitPasses = static_cast<unsigned int>(o.fit_passes);
@@ -151,6 +152,7 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::GetDeform
   o.max_topology_ratio = m_MaximumTopologyRatio;
   o.refinement_travel = m_RefinementTravel;
   o.gap = m_GapSize;
+  o.refine_channels = m_RefineChannels;
   o.fill_cavities = m_FillCavities;
   o.subvoxel_fit = m_SubvoxelFit;
   o.fit_passes = static_cast<int>(std::min<unsigned int>(m_NumberOfFitPasses, 1000000u));
@@ -367,6 +369,7 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::PrintSelf
   os << indent << "MaximumTopologyRatio: " << m_MaximumTopologyRatio << std::endl;
   os << indent << "RefinementTravel: " << m_RefinementTravel << std::endl;
   os << indent << "GapSize: " << m_GapSize << std::endl;
+  os << indent << "RefineChannels: " << (m_RefineChannels ? "On" : "Off") << std::endl;
   os << indent << "FillCavities: " << m_FillCavities << std::endl;
   os << indent << "SubvoxelFit: " << (m_SubvoxelFit ? "On" : "Off") << std::endl;
   os << indent << "NumberOfFitPasses: " << m_NumberOfFitPasses << std::endl;

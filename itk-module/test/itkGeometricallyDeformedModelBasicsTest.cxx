@@ -62,6 +62,7 @@ ExerciseBasicsAndSetGet()
   ITK_TEST_SET_GET_VALUE(d.max_topology_ratio, filter->GetMaximumTopologyRatio());
   ITK_TEST_SET_GET_VALUE(d.refinement_travel, filter->GetRefinementTravel());
   ITK_TEST_SET_GET_VALUE(d.gap, filter->GetGapSize());
+  ITK_TEST_SET_GET_VALUE(d.refine_channels, filter->GetRefineChannels());
   ITK_TEST_SET_GET_VALUE(d.subvoxel_fit, filter->GetSubvoxelFit());
   ITK_TEST_SET_GET_VALUE(static_cast<unsigned int>(d.fit_passes), filter->GetNumberOfFitPasses());
   ITK_TEST_SET_GET_VALUE(d.fit_max_distance, filter->GetFitMaximumDistance());
@@ -144,6 +145,13 @@ ExerciseBasicsAndSetGet()
   ITK_TEST_SET_GET_VALUE(0.8, (filter->SetMaximumTopologyRatio(0.8), filter->GetMaximumTopologyRatio()));
   ITK_TEST_SET_GET_VALUE(1.25, (filter->SetRefinementTravel(1.25), filter->GetRefinementTravel()));
   ITK_TEST_SET_GET_VALUE(4.5, (filter->SetGapSize(4.5), filter->GetGapSize()));
+  // RefineChannels (on by default, issue 14) reaches the core's options, and
+  // SetOption by the catalogue's name reaches the member.
+  ITK_TEST_SET_GET_BOOLEAN(filter, RefineChannels, false);
+  filter->RefineChannelsOff();
+  ITK_TEST_SET_GET_VALUE(false, filter->GetDeformOptions().refine_channels);
+  filter->SetOption("refine_channels", 1.0);
+  ITK_TEST_SET_GET_VALUE(true, filter->GetRefineChannels());
   ITK_TEST_SET_GET_BOOLEAN(filter, FloatExactOutput, true);
   filter->FloatExactOutputOff();
   FilterType::PointType center;
@@ -187,7 +195,7 @@ ExerciseBasicsAndSetGet()
          "MaximumNumberOfCycles", "ConvergenceTolerance", "ConvergenceWindow", "PreventSelfIntersection",
          "ImproveTriangles", "FlipMaximumDihedralAngle", "MaximumNumberOfFaces", "SubvoxelFit", "NumberOfFitPasses",
          "FitMaximumDistance", "FitSmoothing", "LevelOfDetailTolerance", "LevelOfDetailMinimumAngle", "LevelOfDetailRounds", "MinimumAngle", "FaceBudget",
-         "MaximumTopologyRatio", "RefinementTravel", "GapSize", "NumberOfGapClosedVoxels", "FillCavities", "NumberOfFilledCavities", "FilledCavityVolume", "NumberOfCavitiesBehindNarrowOpenings", "NumberOfCappedHandles", "FloatExactOutput", "SeedCenter", "SeedRadius",
+         "MaximumTopologyRatio", "RefinementTravel", "GapSize", "RefineChannels", "NumberOfGapClosedVoxels", "FillCavities", "NumberOfFilledCavities", "FilledCavityVolume", "NumberOfCavitiesBehindNarrowOpenings", "NumberOfCappedHandles", "FloatExactOutput", "SeedCenter", "SeedRadius",
          "SeedSubdivisionLevel", "StopReason", "NumberOfCycles", "NumberOfGlobalRefinementsPerformed",
          "NumberOfRejectedMoves", "NumberOfFlips", "NumberOfBorderVertices", "NumberOfFitMoves",
          "NumberOfLevelOfDetailSplits", "NumberOfLevelOfDetailCollapses", "NumberOfFloatRefusedVertices", "NumberOfBudgetCollapses",
