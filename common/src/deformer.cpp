@@ -678,10 +678,9 @@ bool Deformer::object_ahead(Mesh::FaceHandle f, std::vector<Vec3>* free_points) 
   const Vec3 unit = cross / len;
   const double along = 1.0 / unit.cwiseQuotient(volume_.spacing()).norm();  // mm
   const Vec3 ahead = ((o_.mode == Mode::grow ? 1.0 : -1.0) * along) * unit;
-  // Points about half a voxel apart, in voxels of the grid: on the CT
-  // series (0.45 x 0.45 x 5 mm) a face across slices was sampled every
-  // 0.23 mm along z, ten times finer than the image varies there, and this
-  // search took a seventh of the run.
+  // Points about half a voxel apart, in voxels of the grid (along a coarse
+  // axis, finer points see nothing new: the CT series' 5 mm slices were
+  // sampled every 0.23 mm). Isotropic grids: as before.
   const Vec3& spacing = volume_.spacing();
   const double longest = std::max({(b - a).cwiseQuotient(spacing).norm(), (c - b).cwiseQuotient(spacing).norm(),
                                    (a - c).cwiseQuotient(spacing).norm()});
