@@ -2,6 +2,9 @@
 // noisy phantoms built here (5 % of the contrast), distances in voxels.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <string>
+
 #include "gdm/channel_width.h"
 #include "gdm/cost_terms.h"
 #include "gdm/phantoms.h"
@@ -60,6 +63,36 @@ TEST(ChannelWidth, a_round_channel_is_as_wide_as_its_diameter_and_an_open_room_r
     EXPECT_DOUBLE_EQ(narrowest_chord(image, c, options()), options().cap);
     // Inside the wall, no room.
     EXPECT_EQ(narrowest_chord(image, c + Vec3(0, 0, 14), options()), 0.0);
+  }
+}
+
+// free_room_reaches tells a channel from a speck: from the wall of a ball
+// (the model's front half a voxel out of it, facing out), a channel two
+// voxels wide leaving the ball (two 2 mm slices across on the 1x1x2 mm grid)
+// reaches three voxels ahead, tilted by 30 degrees too; a bright speck of one and of two voxels just outside the
+// wall, and the plain background, do not. On a 1x1x2 mm grid too.
+TEST(ChannelWidth, free_room_reaches_through_a_channel_not_through_a_speck) {
+  for (const double z_spacing : {1.0, 2.0}) {
+    ph::Grid grid;
+    grid.dims = {40, 40, z_spacing > 1.0 ? 20 : 40};
+    grid.spacing = Vec3(1.0, 1.0, z_spacing);
+    const Vec3 c = grid.center();
+    const Vec3 out = Vec3::UnitX();
+    const ph::Sdf shape = ph::unite({ph::sphere(c, 8.0), ph::capsule(c, c + 18.0 * out, z_spacing),
+                                     ph::sphere(c + Vec3(0, 9.0, 0), 0.7), ph::sphere(c + Vec3(0, -9.3, 0), 1.2)});
+    const Volume v = ph::with_gaussian_noise(ph::voxelize(grid, shape, kLow, kHigh - kLow), 0.05 * (kHigh - kLow), 13u);
+    const ImageEvent image = grow_bright(v);
+    const std::string grid_name = "z spacing " + std::to_string(z_spacing);
+    // Into the channel, straight and tilted (the front of a model whose faces
+    // lean on the channel's sides).
+    const Vec3 mouth = c + 8.5 * out;
+    EXPECT_TRUE(free_room_reaches(image, mouth, out, 3.0, grid.spacing)) << grid_name;
+    const Vec3 tilted = (out + std::tan(M_PI / 6.0) * Vec3::UnitY()).normalized();
+    EXPECT_TRUE(free_room_reaches(image, mouth, tilted, 3.0, grid.spacing)) << grid_name;
+    // Specks of one and two voxels beyond the wall, and the background.
+    EXPECT_FALSE(free_room_reaches(image, c + Vec3(0, 8.8, 0), Vec3::UnitY(), 3.0, grid.spacing)) << grid_name;
+    EXPECT_FALSE(free_room_reaches(image, c + Vec3(0, -8.8, 0), -Vec3::UnitY(), 3.0, grid.spacing)) << grid_name;
+    EXPECT_FALSE(free_room_reaches(image, c + Vec3(0, 0, 12.0), Vec3::UnitZ(), 3.0, grid.spacing)) << grid_name;
   }
 }
 

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 
@@ -203,6 +204,59 @@ TEST(Gap, channels_two_to_four_voxels_wide_are_followed_to_their_ends_at_the_def
                               << truth.mean << ", p95 " << truth.p95 << ")";
     EXPECT_LE(model.mean, 0.15) << "noise " << noise;
   }
+}
+
+// Truth-to-model max (voxels) over each channel's own surface: beyond the
+// chamber along +x (two voxels wide), +y (three) and -z (four).
+std::array<double, 3> channel_truth_max(const Channels& c, const Mesh& mesh) {
+  const TriangleLocator model(triangles_of(mesh));
+  const Vec3 o = c.grid.center();
+  std::array<double, 3> worst{0.0, 0.0, 0.0};
+  for (const Triangle& t : test::marching_cubes(ph::voxelize(c.grid, c.sdf, kLow, kHigh - kLow), kThreshold)) {
+    const Vec3 d = t[0] - o;
+    const int channel = d.x() > 10.0 ? 0 : d.y() > 10.0 ? 1 : d.z() < -10.0 ? 2 : -1;
+    if (channel >= 0) worst[channel] = std::max(worst[channel], model.distance(t[0]) / c.volume.voxel_size());
+  }
+  return worst;
+}
+
+// The same chamber from seeds of other sizes and places, at other noise
+// levels and noise draws: channel following must not hang on where the
+// seed's vertices happen to fall. Seeds: icosahedra of 12, 42 and 162
+// vertices, at the chamber's centre and 2.7 voxels off it; 36 runs.
+// Before the held-vertex and face-centre requests (refine_where_blocked), a
+// sweep like this followed every channel in 6 of 18 runs, and the three- and
+// four-voxel channels were missed too. Now the channels three and four
+// voxels wide are followed in every run; the two-voxel channel, at the
+// resolution's limit, in 34 of these 36: from a 12-vertex seed off the
+// centre (noise 3 and 10 %) its tip vertex stands free of the image and of
+// eq. 3's limit and still does not move (README, "Gap size"). Asserted: at
+// most two such runs.
+TEST(Gap, channels_are_followed_from_seeds_of_any_size_and_place) {
+  int runs = 0, followed = 0;
+  for (const unsigned draw : {61u, 401u})
+    for (const double noise : {0.03, 0.06, 0.10})
+      for (const int level : {0, 1, 2})
+        for (const int off : {0, 1}) {
+          const Channels c = make_channels(noise, draw);
+          Mesh mesh = make_geodesic_sphere(c.grid.center() + off * Vec3(2.0, -1.5, 1.0), 2.5 + 0.5 * level, level);
+          DeformOptions o;
+          o.threshold = kThreshold;
+          o.stop_at_border = true;
+          const DeformResult r = deform(mesh, c.volume, o);
+          test::expect_valid_closed_surface(mesh);
+          const std::array<double, 3> worst = channel_truth_max(c, mesh);
+          const std::string run = "noise " + std::to_string(noise) + " draw " + std::to_string(draw) + " seed level " +
+                                  std::to_string(level) + (off ? " off centre" : " at the centre");
+          EXPECT_EQ(r.reason, StopReason::converged) << run;
+          for (int k = 1; k < 3; ++k)
+            EXPECT_LE(worst[k], 1.0) << run << ": the channel " << k + 2 << " voxels wide is not followed to its end";
+          ++runs;
+          if (worst[0] <= 1.0) ++followed;
+          else std::printf("the two-voxel channel missed (%s): truth to model max %.2f voxels\n", run.c_str(), worst[0]);
+        }
+  std::printf("the two-voxel channel followed from %d of %d seeds\n", followed, runs);
+  EXPECT_GE(followed, runs - 2);
 }
 
 // refine_channels off: the paper's behaviour, the face size decides. The

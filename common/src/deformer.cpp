@@ -182,6 +182,12 @@ constexpr int kPleatRings = 2;
 constexpr int kPleatPasses = 20;
 constexpr double kPleatEdge = 0.25;  // voxels: shorter edges are a crumple's
 constexpr int kMaxRetryInterval = 16;
+// refine_where_blocked: faces ask for smaller faces while larger than this
+// times the finest local size (a face at most twice the finest used to keep
+// its size, and the front inside a channel two voxels wide, faces of about
+// 0.8 voxel^2, stopped there; a quarter of such a face is clamped to the
+// finest size).
+constexpr double kAskAboveFinest = 1.2;
 
 // How far a flip or a collapse of the triangle-quality pass may move the surface, voxels.
 constexpr double kQualityMaxError = 0.1;
@@ -283,6 +289,10 @@ class Deformer {
   std::size_t coarsen_shrunk_faces();
   bool object_ahead(Mesh::FaceHandle f, std::vector<Vec3>* free_points = nullptr) const;
   double room_ahead(const std::vector<Vec3>& free_points) const;
+  double room_ahead_of(const Vec3& p, const Vec3& ahead) const;
+  double room_ahead_of_centre(Mesh::FaceHandle f) const;
+  double room_ahead_of_held_vertex(Mesh::VertexHandle v) const;
+  void ask_around_held_vertices(double finest, std::vector<char>& at_mouth, std::vector<double>& floor_area) const;
   bool at_wall(Mesh::VertexHandle v) const;
   bool in_the_open(const Vec3& p) const;
   double width_area(Mesh::VertexHandle v) const;
@@ -716,6 +726,90 @@ double Deformer::room_ahead(const std::vector<Vec3>& free_points) const {
   return room;
 }
 
+// Room ahead of the model counts for local refinement only when it reaches
+// this deep (grid spacings along the normal) ahead of the point half a voxel
+// in front: a channel or a sheet does, a speck of impulse noise (one or two
+// voxels, the salt-and-pepper ellipsoid of test_face_budget_targets) does not.
+constexpr double kRoomDepth = 3.0;
+
+// The width of the room half a voxel ahead of a face's centre looks into
+// (room_width, channel_width.h), along the face's normal in that direction's
+// spacing; -1 when the image is blocked there or the room is a speck. The
+// front of a model inside a channel about two voxels wide has tilted faces
+// whose corners stand on the channel's sides: one and two voxels along their
+// normals is the side wall (object_ahead sees nothing free), half a voxel
+// ahead of the centre is still the channel. The room's width, not the chord
+// at that point: at the rounded rim of a sheet the chord is short, the sheet
+// is not.
+double Deformer::room_ahead_of_centre(Mesh::FaceHandle f) const {
+  auto it = mesh_.cfv_iter(f);
+  const Vec3 a = to_eigen(mesh_.point(*it)), b = to_eigen(mesh_.point(*++it)), c = to_eigen(mesh_.point(*++it));
+  const Vec3 cross = (b - a).cross(c - a);
+  if (!(cross.norm() > 0.0)) return -1.0;
+  const Vec3 ahead = (o_.mode == Mode::grow ? 1.0 : -1.0) * cross.normalized();
+  return room_ahead_of((a + b + c) / 3.0, ahead);
+}
+
+// The same for a point p of the model and its sense of deformation `ahead`
+// (unit).
+double Deformer::room_ahead_of(const Vec3& p, const Vec3& ahead) const {
+  const double along = 1.0 / ahead.cwiseQuotient(volume_.spacing()).norm();  // mm
+  const Vec3 front = p + (0.5 * along) * ahead;
+  if (cost_.image.is_blocked(front) ||
+      !free_room_reaches(cost_.image, front, ahead, kRoomDepth * along, volume_.spacing()))
+    return -1.0;
+  return room_width(cost_.image, p, ahead, width_options());
+}
+
+// A vertex held back from room ahead of it by eq. 3's hard limit (the
+// topology term): a step of half a voxel along its normal breaks the limit,
+// and the image half a voxel ahead is free. This is the tip of a front in a
+// channel, whose neighbours stand on the channel's sides: only smaller faces
+// let it on. Returns the width of the room it looks into (room_ahead_of), -1
+// when it is not held so. (Held in a wide room, it asks nothing: the room's
+// width gives faces of the level of detail.) A vertex held by the image on a
+// side, in a concave corner, is not held by the limit and asks nothing (the
+// slit of test_cavities was lined with fine faces that met).
+double Deformer::room_ahead_of_held_vertex(Mesh::VertexHandle v) const {
+  const VertexNeighbourhood n = neighbourhood(v);
+  const double limit =
+      n.refined ? std::max(o_.max_topology_ratio, TopologyTerm::kRefinedMaxRatio) : o_.max_topology_ratio;
+  if (!(TopologyTerm::ratio(n, n.position + (n.sense * 0.5 * voxel_) * n.normal) > limit)) return -1.0;
+  Vec3 normal = Vec3::Zero();
+  for (auto f : mesh_.vf_range(v)) normal += face_normal_[f.idx()];
+  if (!(normal.norm() > 0.0)) return -1.0;
+  return room_ahead_of(to_eigen(mesh_.point(v)), (o_.mode == Mode::grow ? 1.0 : -1.0) * normal.normalized());
+}
+
+// The faces around held vertices larger than the room ahead of the vertex
+// asks for (channel_width.h) ask too, with that room's face size as their
+// floor. A face already asking keeps the smaller of the two floors.
+void Deformer::ask_around_held_vertices(double finest, std::vector<char>& at_mouth,
+                                           std::vector<double>& floor_area) const {
+  const double coarse = o_.lod_face_area * voxel_ * voxel_;
+  const ChannelWidthOptions w = width_options();
+  // The room's width per vertex, in parallel (read-only); -1: not held.
+  std::vector<double> room(mesh_.n_vertices(), -1.0);
+  parallel_for(mesh_.n_vertices(), threads_, [&](std::size_t i) {
+    const Mesh::VertexHandle v(static_cast<int>(i));
+    if ((mesh_.has_vertex_status() && mesh_.status(v).deleted()) || mesh_.is_isolated(v)) return;
+    room[i] = room_ahead_of_held_vertex(v);
+  });
+  // Merged in vertex order: the same asking faces for any thread count.
+  for (auto v : mesh_.vertices()) {
+    const double width = room[static_cast<std::size_t>(v.idx())];
+    if (width < 0.0) continue;
+    const double floor = area_for_width(width, w, finest, coarse);
+    for (auto f : mesh_.vf_range(v)) {
+      const std::size_t i = static_cast<std::size_t>(f.idx());
+      const double area = 0.5 * face_normal_area(f);
+      if (!(area > kAskAboveFinest * finest) || !(area > floor)) continue;
+      floor_area[i] = at_mouth[i] ? std::min(floor_area[i], floor) : floor;
+      at_mouth[i] = 1;
+    }
+  }
+}
+
 // Free room half an edge of the level of detail away along every axis: no
 // channel here, faces of the level of detail fit.
 bool Deformer::in_the_open(const Vec3& p) const {
@@ -821,7 +915,7 @@ std::size_t Deformer::refine_where_blocked(int cycle) {
     if (mesh_.has_face_status() && mesh_.status(f).deleted()) return;
     const double area = 0.5 * face_normal_area(f);
     thread_local std::vector<Vec3> free_points;
-    if (!(area > 2.0 * finest) || !object_ahead(f, &free_points)) return;
+    if (!(area > kAskAboveFinest * finest)) return;
     // The face spans the mouth of a channel: its corners stand on the wall
     // around it, its middle sees into the channel.
     int walled = 0;
@@ -831,9 +925,13 @@ std::size_t Deformer::refine_where_blocked(int cycle) {
     // (channel_width.h): still blocked there, a finer face makes no progress.
     // (Measured last: the chords were a quarter of the CT series' run when
     // every free point of every face had them.)
-    floor_area[i] = area_for_width(room_ahead(free_points), w, finest, coarse);
+    double room = -1.0;
+    if (object_ahead(f, &free_points)) room = room_ahead(free_points);
+    else if ((room = room_ahead_of_centre(f)) < 0.0) return;
+    floor_area[i] = area_for_width(room, w, finest, coarse);
     at_mouth[i] = area > floor_area[i];
   });
+  ask_around_held_vertices(finest, at_mouth, floor_area);
   // Room ahead that the model itself fills (two fronts that met) is no channel.
   const std::vector<char> met = contact_faces(mesh_, 2.5 * voxel_, nullptr, threads_, &at_mouth);
   for (std::size_t i = 0; i < n_faces; ++i)

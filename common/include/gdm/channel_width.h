@@ -35,6 +35,15 @@ double narrowest_chord(const ImageEvent& image, const Vec3& p, const ChannelWidt
 // from half a voxel to cap / 2: the chords near the room's middle.
 double room_width(const ImageEvent& image, const Vec3& p, const Vec3& ahead, const ChannelWidthOptions& o);
 
+// Whether the free room at `start` reaches `depth` (mm) ahead of the plane
+// through `start` normal to `ahead` (unit): a walk over the free points of a
+// lattice half a grid spacing apart, 26-connected, kept ahead of the plane
+// (behind it lies the model's own inside). A channel or a sheet reaches any
+// depth; a noise speck or the hollow of a rough wall does not. The walk
+// stops after max_points points (then the room counts as deep: a wide room).
+bool free_room_reaches(const ImageEvent& image, const Vec3& start, const Vec3& ahead, double depth,
+                       const Vec3& spacing, std::size_t max_points = 4000);
+
 // The face area (mm^2) that follows a room of width w (mm): an equilateral
 // face of edge edge_per_width * w, within [finest, coarse].
 double area_for_width(double width, const ChannelWidthOptions& o, double finest, double coarse);
