@@ -228,10 +228,8 @@ std::array<double, 3> channel_truth_max(const Channels& c, const Mesh& mesh) {
 // sweep like this followed every channel in 6 of 18 runs, and the three- and
 // four-voxel channels were missed too. Now the channels three and four
 // voxels wide are followed in every run; the two-voxel channel, at the
-// resolution's limit, in 34 of these 36: from a 12-vertex seed off the
-// centre (noise 3 and 10 %) its tip vertex stands free of the image and of
-// eq. 3's limit and still does not move (README, "Gap size"). Asserted: at
-// most two such runs.
+// resolution's limit, in 35 of these 36 (README, "Channels from any seed").
+// Asserted: at most two misses.
 TEST(Gap, channels_are_followed_from_seeds_of_any_size_and_place) {
   int runs = 0, followed = 0;
   for (const unsigned draw : {61u, 401u})
