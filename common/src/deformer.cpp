@@ -289,7 +289,7 @@ class Deformer {
   std::size_t coarsen_shrunk_faces();
   bool object_ahead(Mesh::FaceHandle f, std::vector<Vec3>* free_points = nullptr) const;
   double room_ahead(const std::vector<Vec3>& free_points) const;
-  double room_ahead_of(const Vec3& p, const Vec3& ahead, bool deep_chord = false) const;
+  double room_ahead_of(const Vec3& p, const Vec3& ahead) const;
   double room_ahead_of_centre(Mesh::FaceHandle f) const;
   double room_ahead_of_held_vertex(Mesh::VertexHandle v) const;
   void ask_around_held_vertices(double finest, std::vector<char>& at_mouth, std::vector<double>& floor_area) const;
@@ -751,25 +751,14 @@ double Deformer::room_ahead_of_centre(Mesh::FaceHandle f) const {
 }
 
 // The same for a point p of the model and its sense of deformation `ahead`
-// (unit). With deep_chord, the narrower of that and the narrowest chord at
-// the point where the free room reached kRoomDepth: a held vertex whose
-// normal runs into the side of the channel's mouth has room_width turn round
-// into the chamber behind it (wide: it asked nothing); the point three
-// voxels into the channel measures the channel (a sweep over 174 seeded
-// runs: the two-voxel channel followed in 170 instead of 165). Not for the
-// face centres: there it lined the sheet phantom with fine faces and
-// followed the pepper-speckled ellipsoid's specks (chords between specks
-// are short).
-double Deformer::room_ahead_of(const Vec3& p, const Vec3& ahead, bool deep_chord) const {
+// (unit).
+double Deformer::room_ahead_of(const Vec3& p, const Vec3& ahead) const {
   const double along = 1.0 / ahead.cwiseQuotient(volume_.spacing()).norm();  // mm
   const Vec3 front = p + (0.5 * along) * ahead;
-  Vec3 deep = front;
   if (cost_.image.is_blocked(front) ||
-      !free_room_reaches(cost_.image, front, ahead, kRoomDepth * along, volume_.spacing(), 4000, &deep))
+      !free_room_reaches(cost_.image, front, ahead, kRoomDepth * along, volume_.spacing()))
     return -1.0;
-  const double width = room_width(cost_.image, p, ahead, width_options());
-  if (!deep_chord || deep == front) return width;
-  return std::min(width, narrowest_chord(cost_.image, deep, width_options()));
+  return room_width(cost_.image, p, ahead, width_options());
 }
 
 // A vertex held back from room ahead of it by eq. 3's hard limit (the
@@ -796,7 +785,7 @@ double Deformer::room_ahead_of_held_vertex(Mesh::VertexHandle v) const {
   Vec3 normal = Vec3::Zero();
   for (auto f : mesh_.vf_range(v)) normal += face_normal_[f.idx()];
   if (!(normal.norm() > 0.0)) return -1.0;
-  return room_ahead_of(to_eigen(mesh_.point(v)), (o_.mode == Mode::grow ? 1.0 : -1.0) * normal.normalized(), true);
+  return room_ahead_of(to_eigen(mesh_.point(v)), (o_.mode == Mode::grow ? 1.0 : -1.0) * normal.normalized());
 }
 
 // The faces around held vertices larger than the room ahead of the vertex

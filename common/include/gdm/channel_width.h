@@ -41,10 +41,8 @@ double room_width(const ImageEvent& image, const Vec3& p, const Vec3& ahead, con
 // (behind it lies the model's own inside). A channel or a sheet reaches any
 // depth; a noise speck or the hollow of a rough wall does not. The walk
 // stops after max_points points (then the room counts as deep: a wide room).
-// reached, when given: the first point found at that depth (left alone when
-// the walk stopped at max_points).
 bool free_room_reaches(const ImageEvent& image, const Vec3& start, const Vec3& ahead, double depth,
-                       const Vec3& spacing, std::size_t max_points = 4000, Vec3* reached = nullptr);
+                       const Vec3& spacing, std::size_t max_points = 4000);
 
 // The face area (mm^2) that follows a room of width w (mm): an equilateral
 // face of edge edge_per_width * w, within [finest, coarse].
