@@ -3,9 +3,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdint>
 #include <unordered_set>
 #include <vector>
+
+#include "gdm/cell_hash.h"
 
 namespace gdm {
 
@@ -65,12 +66,8 @@ bool free_room_reaches(const ImageEvent& image, const Vec3& start, const Vec3& a
                        const Vec3& spacing, std::size_t max_points) {
   if (image.is_blocked(start)) return false;
   const Vec3 step = 0.5 * spacing;
-  // Lattice offsets from start, packed into one key (|offset| < 2^20).
-  const auto key = [](int x, int y, int z) {
-    return (static_cast<std::uint64_t>(x + (1 << 20)) << 42) | (static_cast<std::uint64_t>(y + (1 << 20)) << 21) |
-           static_cast<std::uint64_t>(z + (1 << 20));
-  };
-  std::unordered_set<std::uint64_t> seen{key(0, 0, 0)};
+  // Lattice offsets from start, one key each (cell_hash.h).
+  std::unordered_set<CellKey> seen{cell_key(0, 0, 0)};
   std::vector<std::array<int, 3>> front{{0, 0, 0}};
   // Breadth first, in a fixed order: the same answer on every run.
   for (std::size_t next = 0; next < front.size(); ++next) {
@@ -79,7 +76,7 @@ bool free_room_reaches(const ImageEvent& image, const Vec3& start, const Vec3& a
       for (int dy = -1; dy <= 1; ++dy)
         for (int dx = -1; dx <= 1; ++dx) {
           const int x = c[0] + dx, y = c[1] + dy, z = c[2] + dz;
-          if (!seen.insert(key(x, y, z)).second) continue;
+          if (!seen.insert(cell_key(x, y, z)).second) continue;
           const Vec3 q = start + Vec3(x, y, z).cwiseProduct(step);
           const double height = (q - start).dot(ahead);
           if (height < 0.0 || image.is_blocked(q)) continue;

@@ -769,8 +769,9 @@ double Deformer::room_ahead_of(const Vec3& p, const Vec3& ahead) const {
 // not refined may travel refinement_travel edges from where the stage found
 // it): the tip of a front that reached a channel's mouth late, free of the
 // image and of eq. 3, that stopped there (a sweep over seeds: 3 of the
-// two-voxel channel's 12 misses in 174 runs). Refined, it may travel on. Returns the width of the room it looks into (room_ahead_of), -1
-// when it is not held so. (Held in a wide room, it asks nothing: the room's
+// two-voxel channel's 12 misses in 174 runs). Refined, it may travel on.
+// Returns the width of the room it looks into (room_ahead_of), -1 when it is
+// not held so. (Held in a wide room, it asks nothing: the room's
 // width gives faces of the level of detail.) A vertex held by the image on a
 // side, in a concave corner, is not held by the limit and asks nothing (the
 // slit of test_cavities was lined with fine faces that met).
@@ -792,7 +793,7 @@ double Deformer::room_ahead_of_held_vertex(Mesh::VertexHandle v) const {
 // asks for (channel_width.h) ask too, with that room's face size as their
 // floor. A face already asking keeps the smaller of the two floors.
 void Deformer::ask_around_held_vertices(double finest, std::vector<char>& at_mouth,
-                                           std::vector<double>& floor_area) const {
+                                        std::vector<double>& floor_area) const {
   const double coarse = o_.lod_face_area * voxel_ * voxel_;
   const ChannelWidthOptions w = width_options();
   // The room's width per vertex, in parallel (read-only); -1: not held.
