@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <queue>
 #include <unordered_set>
 #include <vector>
 
@@ -68,10 +69,24 @@ bool free_room_reaches(const ImageEvent& image, const Vec3& start, const Vec3& a
   const Vec3 step = 0.5 * spacing;
   // Lattice offsets from start, one key each (cell_hash.h).
   std::unordered_set<CellKey> seen{cell_key(0, 0, 0)};
-  std::vector<std::array<int, 3>> front{{0, 0, 0}};
-  // Breadth first, in a fixed order: the same answer on every run.
-  for (std::size_t next = 0; next < front.size(); ++next) {
-    const std::array<int, 3> c = front[next];
+  // The walk goes deepest point first (ties: the point found first): where
+  // the room reaches the depth it gets there in a few steps instead of
+  // after every shallower point. The answer does not depend on the order:
+  // it is whether the free component of the lattice ahead of the plane has
+  // a point that deep or more than max_points points, and either is found
+  // by any order that stops at the first deep point or at max_points.
+  struct Open {
+    double height;
+    std::size_t order;
+    std::array<int, 3> c;
+    bool operator<(const Open& o) const { return height < o.height || (height == o.height && order > o.order); }
+  };
+  std::priority_queue<Open> open;
+  open.push({0.0, 0, {0, 0, 0}});
+  std::size_t found = 1;  // points accepted into the walk
+  while (!open.empty()) {
+    const std::array<int, 3> c = open.top().c;
+    open.pop();
     for (int dz = -1; dz <= 1; ++dz)
       for (int dy = -1; dy <= 1; ++dy)
         for (int dx = -1; dx <= 1; ++dx) {
@@ -80,8 +95,8 @@ bool free_room_reaches(const ImageEvent& image, const Vec3& start, const Vec3& a
           const Vec3 q = start + Vec3(x, y, z).cwiseProduct(step);
           const double height = (q - start).dot(ahead);
           if (height < 0.0 || image.is_blocked(q)) continue;
-          if (height >= depth || front.size() >= max_points) return true;
-          front.push_back({x, y, z});
+          if (height >= depth || found >= max_points) return true;
+          open.push({height, found++, {x, y, z}});
         }
   }
   return false;
