@@ -291,7 +291,7 @@ std::vector<char> CavityFinder::reached_by_balls(const std::vector<float>& d2) c
     stack.push_back(c);
   }
   box_.flood(component, stack, [&](std::size_t c) { return d2[c] >= r2; });
-  const std::vector<double> dilated = squared_distance_to(component, box_.n, volume_.spacing());
+  const std::vector<double> dilated = squared_distance_to(component, box_.n, volume_.spacing(), o_.threads);
   const double r2_dilate = r2 * (1.0 + 1e-9);
   std::vector<char> reached(box_.count(), 0);
   for (std::size_t c = 0; c < box_.count(); ++c) reached[c] = kind_[c] != kObject && dilated[c] <= r2_dilate;
@@ -395,7 +395,7 @@ void CavityFinder::fill_pockets(const std::vector<char>& reached, const std::vec
 // kept as float: half the memory of the transform's doubles, which are freed
 // at once (distances are compared and ordered, never accumulated).
 std::vector<float> CavityFinder::squared_distance(const std::vector<char>& sites) const {
-  const std::vector<double> exact = squared_distance_to(sites, box_.n, volume_.spacing());
+  const std::vector<double> exact = squared_distance_to(sites, box_.n, volume_.spacing(), o_.threads);
   return std::vector<float>(exact.begin(), exact.end());
 }
 

@@ -33,8 +33,10 @@ double ImageEvent::excess(const Vec3& x) const {
   // Outside the volume: blocked when growing (the model stays in the
   // image); background when shrinking, so a seed around an object that the
   // scan cuts may start outside and close it at the border.
-  if (!volume_->contains(x)) return outside_is_free_ ? -inv_scale_ : std::numeric_limits<double>::infinity();
-  return sign_ * (volume_->sample(x) - threshold_) * inv_scale_;
+  double value;
+  if (!volume_->sample_inside(x, value))
+    return outside_is_free_ ? -inv_scale_ : std::numeric_limits<double>::infinity();
+  return sign_ * (value - threshold_) * inv_scale_;
 }
 
 double ImageEvent::cost(const Vec3& x) const {

@@ -776,6 +776,16 @@ double Deformer::room_ahead_of(const Vec3& p, const Vec3& ahead) const {
 // side, in a concave corner, is not held by the limit and asks nothing (the
 // slit of test_cavities was lined with fine faces that met).
 double Deformer::room_ahead_of_held_vertex(Mesh::VertexHandle v) const {
+  // The image half a voxel ahead along the 1-ring normal must be free
+  // (room_ahead_of): tested first, as most vertices of a converged model
+  // stand at a wall and the neighbourhood below is the costlier part.
+  Vec3 normal = Vec3::Zero();
+  for (auto f : mesh_.vf_range(v)) normal += face_normal_[f.idx()];
+  if (!(normal.norm() > 0.0)) return -1.0;
+  const Vec3 ahead = (o_.mode == Mode::grow ? 1.0 : -1.0) * normal.normalized();
+  const Vec3 p = to_eigen(mesh_.point(v));
+  const double along = 1.0 / ahead.cwiseQuotient(volume_.spacing()).norm();  // mm, as room_ahead_of
+  if (cost_.image.is_blocked(p + (0.5 * along) * ahead)) return -1.0;
   const VertexNeighbourhood n = neighbourhood(v);
   const double limit =
       n.refined ? std::max(o_.max_topology_ratio, TopologyTerm::kRefinedMaxRatio) : o_.max_topology_ratio;
@@ -783,10 +793,7 @@ double Deformer::room_ahead_of_held_vertex(Mesh::VertexHandle v) const {
   const bool by_the_travel = report_.stage > 0 && !n.refined &&
                              (n.position - stage_start_[v.idx()]).norm() > max_travel_ - 0.5 * voxel_;
   if (!by_the_limit && !by_the_travel) return -1.0;
-  Vec3 normal = Vec3::Zero();
-  for (auto f : mesh_.vf_range(v)) normal += face_normal_[f.idx()];
-  if (!(normal.norm() > 0.0)) return -1.0;
-  return room_ahead_of(to_eigen(mesh_.point(v)), (o_.mode == Mode::grow ? 1.0 : -1.0) * normal.normalized());
+  return room_ahead_of(p, ahead);
 }
 
 // The faces around held vertices larger than the room ahead of the vertex
@@ -1534,6 +1541,7 @@ PassageGate gate_for(const Mesh& mesh, const Volume& volume, const DeformOptions
   PassageOptions passage;
   passage.gap = o.gap;
   passage.threshold = o.threshold;
+  passage.threads = o.threads;
   // Table 1's duality: growing, the background is blocked; shrinking, the object.
   passage.blocked_is_brighter = (o.polarity == Polarity::object_brighter) == (o.mode == Mode::shrink);
   return gate_passages(volume, passage, points);
@@ -1551,6 +1559,7 @@ CavityFill cavities_for(const Mesh& mesh, const Volume& volume, const DeformOpti
   c.gap = o.gap;
   c.opening = o.cavity_opening;
   c.cap_handles = o.cap_handles;
+  c.threads = o.threads;
   // A membrane the model's faces enter as fast as the handle's tube: at
   // least 3.5 voxels each side (cavities.cpp), more for faces larger than the
   // default level of detail's.

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <limits>
 
+#include "gdm/parallel.h"
+
 namespace gdm {
 namespace {
 
@@ -54,23 +56,30 @@ void distance_line(const double* f, double* d, int n, double h, std::vector<int>
 
 }  // namespace
 
-std::vector<double> squared_distance_to(const std::vector<char>& sites, const Index3& n, const Vec3& spacing) {
+std::vector<double> squared_distance_to(const std::vector<char>& sites, const Index3& n, const Vec3& spacing,
+                                        int threads) {
   std::vector<double> dist(sites.size());
   for (std::size_t i = 0; i < sites.size(); ++i) dist[i] = sites[i] ? 0.0 : kInf;
   const std::size_t stride[3] = {1, static_cast<std::size_t>(n[0]), static_cast<std::size_t>(n[0]) * n[1]};
-  const int longest = std::max({n[0], n[1], n[2]});
-  std::vector<double> f(static_cast<std::size_t>(longest)), d(static_cast<std::size_t>(longest));
-  std::vector<int> v(static_cast<std::size_t>(longest));
-  std::vector<double> z(static_cast<std::size_t>(longest) + 1);
+  const int workers = resolve_thread_count(threads);
   for (int axis = 0; axis < 3; ++axis) {
     const int u = (axis + 1) % 3, w = (axis + 2) % 3;
-    for (int q = 0; q < n[w]; ++q)
-      for (int p = 0; p < n[u]; ++p) {
-        const std::size_t base = static_cast<std::size_t>(p) * stride[u] + static_cast<std::size_t>(q) * stride[w];
-        for (int i = 0; i < n[axis]; ++i) f[static_cast<std::size_t>(i)] = dist[base + static_cast<std::size_t>(i) * stride[axis]];
-        distance_line(f.data(), d.data(), n[axis], spacing[axis], v, z);
-        for (int i = 0; i < n[axis]; ++i) dist[base + static_cast<std::size_t>(i) * stride[axis]] = d[static_cast<std::size_t>(i)];
-      }
+    const std::size_t length = static_cast<std::size_t>(n[axis]);
+    // One line per index, each written by one worker: the same result on
+    // any number of them (an axis's lines share no voxel).
+    parallel_for(static_cast<std::size_t>(n[u]) * static_cast<std::size_t>(n[w]), workers, [&](std::size_t line) {
+      thread_local std::vector<double> f, d, z;
+      thread_local std::vector<int> v;
+      f.resize(length);
+      d.resize(length);
+      v.resize(length);
+      z.resize(length + 1);
+      const std::size_t p = line % static_cast<std::size_t>(n[u]), q = line / static_cast<std::size_t>(n[u]);
+      const std::size_t base = p * stride[u] + q * stride[w];
+      for (std::size_t i = 0; i < length; ++i) f[i] = dist[base + i * stride[axis]];
+      distance_line(f.data(), d.data(), n[axis], spacing[axis], v, z);
+      for (std::size_t i = 0; i < length; ++i) dist[base + i * stride[axis]] = d[i];
+    });
   }
   return dist;
 }

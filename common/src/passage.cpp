@@ -99,7 +99,7 @@ bool Gate::grow_component(const Box& box, const std::vector<Index3>& seeds, std:
   const Box domain = grown(box, reach_, volume_.dims());
   std::vector<char> blocked(domain.count());
   for_each_voxel(domain, [&](int i, int j, int k) { blocked[domain.index(i, j, k)] = !is_free(i, j, k); });
-  const std::vector<double> d2 = squared_distance_to(blocked, domain.size(), volume_.spacing());
+  const std::vector<double> d2 = squared_distance_to(blocked, domain.size(), volume_.spacing(), o_.threads);
   blocked = {};
   const double r2 = radius_ * radius_;
   const auto centre = [&](int i, int j, int k) { return d2[domain.index(i, j, k)] >= r2; };
@@ -169,7 +169,7 @@ PassageGate Gate::close_unreached() const {
   const Box domain = grown(box_, reach_, volume_.dims());
   std::vector<char> sites(domain.count(), 0);
   for_each_voxel(box_, [&](int i, int j, int k) { sites[domain.index(i, j, k)] = component_[box_.index(i, j, k)]; });
-  const std::vector<double> d2 = squared_distance_to(sites, domain.size(), volume_.spacing());
+  const std::vector<double> d2 = squared_distance_to(sites, domain.size(), volume_.spacing(), o_.threads);
   sites = {};
   const double r2 = radius_ * radius_ * (1.0 + 1e-9);
   std::vector<char> reachable(domain.count(), 0);

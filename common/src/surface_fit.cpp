@@ -15,9 +15,14 @@ namespace gdm {
 std::optional<double> find_crossing(const Volume& volume, double threshold, const Vec3& p, const Vec3& dir,
                                     double max_mm, double step_mm) {
   const auto g = [&](double t) { return volume.sample(p + t * dir) - threshold; };
-  const auto inside = [&](double t) { return volume.contains(p + t * dir); };
-  if (!inside(0.0)) return std::nullopt;
-  const double g0 = g(0.0);
+  // Inside the grid, and the value there (one index transform for both).
+  const auto inside = [&](double t, double& gt) {
+    if (!volume.sample_inside(p + t * dir, gt)) return false;
+    gt -= threshold;
+    return true;
+  };
+  double g0;
+  if (!inside(0.0, g0)) return std::nullopt;
   if (g0 == 0.0) return 0.0;
   // Bracket: walk out on both sides at once, nearest crossing first.
   double lo = 0.0, glo = g0, hi = 0.0, ghi = 0.0;
@@ -29,11 +34,11 @@ std::optional<double> find_crossing(const Volume& volume, double threshold, cons
     for (int side = 0; side < 2 && !found; ++side) {
       if (!alive[side]) continue;
       const double ts = side == 0 ? t : -t;
-      if (!inside(ts)) {
+      double gs;
+      if (!inside(ts, gs)) {
         alive[side] = false;
         continue;
       }
-      const double gs = g(ts);
       if ((gs <= 0.0) != (prev_g[side] <= 0.0) || gs == 0.0) {
         lo = prev_t[side];
         glo = prev_g[side];

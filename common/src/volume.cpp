@@ -72,12 +72,17 @@ bool Volume::contains(const Vec3& physical, double margin_voxels) const {
 }
 
 double Volume::sample(const Vec3& physical) const {
+  double value;
+  return sample_inside(physical, value) ? value : outside_value_;
+}
+
+bool Volume::sample_inside(const Vec3& physical, double& value) const {
   const Vec3 c = to_continuous_index(physical);
   int base[3];
   double frac[3];
   for (int a = 0; a < 3; ++a) {
     // The negated test also sends NaN coordinates outside.
-    if (!(c[a] >= 0.0 && c[a] <= dims_[a] - 1)) return outside_value_;
+    if (!(c[a] >= 0.0 && c[a] <= dims_[a] - 1)) return false;
     int b = static_cast<int>(c[a]);
     if (b >= dims_[a] - 1) b = dims_[a] - 2;  // the upper face of the grid
     base[a] = b;
@@ -94,13 +99,17 @@ double Volume::sample(const Vec3& physical) const {
   const double c0 = c00 + fy * (c10 - c00);
   const double c1 = c01 + fy * (c11 - c01);
   const double r = c0 + fz * (c1 - c0);
-  if (std::isfinite(r)) return r;
+  if (std::isfinite(r)) {
+    value = r;
+    return true;
+  }
   // The float differences overflowed (neighbours near -FLT_MAX and FLT_MAX):
   // the same interpolation in double, where no float value overflows.
   const auto lerp = [](double a, double b, double f) { return a + f * (b - a); };
   const double d00 = lerp(p[0], p[sx], fx), d10 = lerp(p[sy], p[sy + sx], fx);
   const double d01 = lerp(p[sz], p[sz + sx], fx), d11 = lerp(p[sz + sy], p[sz + sy + sx], fx);
-  return lerp(lerp(d00, d10, fy), lerp(d01, d11, fy), fz);
+  value = lerp(lerp(d00, d10, fy), lerp(d01, d11, fy), fz);
+  return true;
 }
 
 void Volume::physical_bounds(Vec3& lo, Vec3& hi) const {

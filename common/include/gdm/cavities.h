@@ -66,6 +66,8 @@ struct CavityOptions {
                                      // seed_points (all its components), not only the seed's region: a
                                      // model shrinking from outside (section 5's duality) has no point
                                      // inside the object, and it meets every component its seed encloses
+  int threads = 0;                   // workers for the distance transforms (0 = all cores); the fill
+                                     // does not depend on it
 };
 
 // The ball diameter (mm) the fill uses for "reach" with these options on this grid: the larger of

@@ -29,6 +29,8 @@ struct PassageOptions {
   double gap = 0.0;        // G, mm: diameter of the ball that must fit; at most two voxels = no gate
   double threshold = 0.0;  // T of eq. 2
   bool blocked_is_brighter = false;  // the region the model must not enter lies above T
+  int threads = 0;                   // workers for the distance transforms (0 = all cores); the gate
+                                     // does not depend on it
 };
 
 struct PassageGate {

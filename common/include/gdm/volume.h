@@ -59,6 +59,10 @@ class Volume {
 
   // Trilinear interpolation; outside_value() outside the grid.
   double sample(const Vec3& physical) const;
+  // contains(physical) and, when it does, the sample there in `value`: one
+  // index transform for both (the fit's crossing search asks both at every
+  // step).
+  bool sample_inside(const Vec3& physical, double& value) const;
 
   // Smallest and largest voxel value.
   double min_value() const { return min_value_; }
