@@ -5,6 +5,7 @@
 // long as vertices stay within the margin between rebuilds.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <random>
 #include <vector>
 
@@ -108,6 +109,38 @@ TEST(IntersectionGuard, vetoes_a_move_that_flips_or_flattens_a_face_of_its_fan) 
   // Within the ring: allowed.
   EXPECT_TRUE(guard.move_is_safe(v, p + Vec3(0.3, -0.2, 0.4)));
   EXPECT_EQ(guard.statistics().rejected_moves, 2u);
+}
+
+// The deformer refuses a move again without a check while the faces the guard
+// decided on stay put (deformer.cpp, guard_allows): it needs the face a
+// refused move would cut, and -1 for a refusal by the move's own fan.
+TEST(IntersectionGuard, names_the_face_a_refused_move_would_cut) {
+  Mesh mesh;
+  const int n = 6;
+  const auto lower = add_sheet(mesh, n, 0.0, 0.0);
+  add_sheet(mesh, n, 1.0, 0.3);
+  IntersectionGuard guard(mesh, 0.5, kMinArea);
+  const auto v = center_of(lower, n);
+  const Vec3 p = to_eigen(mesh.point(v));
+  const Vec3 to = p + Vec3(0, 0, 1.5);
+  ASSERT_FALSE(guard.move_is_safe(v, to));
+  const int blocker = guard.last_blocking_face();
+  ASSERT_GE(blocker, 0);
+  // It is a face of the upper sheet (no vertex of the lower one) that the
+  // moved fan really cuts.
+  std::array<int, 3> ids{}, fan_ids{};
+  const auto other = corners(mesh, Mesh::FaceHandle(blocker), v, to, ids);
+  for (int id : ids) EXPECT_GE(id, static_cast<int>(lower.size()));
+  bool cut = false;
+  for (auto f : mesh.vf_range(v))
+    cut = cut || triangles_intersect_improperly(corners(mesh, f, v, to, fan_ids), fan_ids, other, ids);
+  EXPECT_TRUE(cut);
+  // A move that folds its own fan names no face.
+  ASSERT_FALSE(guard.move_is_safe(v, p + Vec3(1.5, 0.2, 0.0)));
+  EXPECT_EQ(guard.last_blocking_face(), -1);
+  // A refusal counted without a check shows in the statistics.
+  guard.count_rejected_move();
+  EXPECT_EQ(guard.statistics().rejected_moves, 3u);
 }
 
 TEST(IntersectionGuard, vetoes_a_flip_whose_new_edge_pierces_a_face) {

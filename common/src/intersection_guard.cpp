@@ -95,6 +95,7 @@ bool IntersectionGuard::move_is_safe(Mesh::VertexHandle v, const Vec3& p) {
     const Vec3 n_after = (after.p[1] - after.p[0]).cross(after.p[2] - after.p[0]);
     if (0.5 * n_after.norm() < min_face_area_ || n_after.dot(n_before) <= 0.0) {
       ++stats_.rejected_moves;
+      last_blocking_face_ = -1;
       return false;
     }
   }
@@ -123,7 +124,10 @@ bool IntersectionGuard::move_is_safe(Mesh::VertexHandle v, const Vec3& p) {
     for (std::size_t i = 0; i < fan.size() && clear; ++i) {
       if (ring_faces[i] == g) continue;
       if ((olo.array() > boxes[i].second.array()).any() || (ohi.array() < boxes[i].first.array()).any()) continue;
-      if (triangles_intersect_improperly(fan[i].p, fan[i].id, other.p, other.id)) clear = false;
+      if (triangles_intersect_improperly(fan[i].p, fan[i].id, other.p, other.id)) {
+        clear = false;
+        last_blocking_face_ = g;
+      }
     }
   });
   if (!clear)

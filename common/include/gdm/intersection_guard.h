@@ -47,6 +47,12 @@ class IntersectionGuard {
   bool flip_is_safe(Mesh::EdgeHandle e, const Mesh::VertexHandle (&quad)[4]);
 
   const GuardStatistics& statistics() const { return stats_; }
+  // The face the last refused move would have cut (-1: refused for a
+  // degenerate or flipped face of its own fan).
+  int last_blocking_face() const { return last_blocking_face_; }
+  // Counts a move the caller knows the guard refuses (the same move, the
+  // same faces as at an earlier refusal), without checking it again.
+  void count_rejected_move() { ++stats_.rejected_moves; }
 
  private:
   struct Triangle {
@@ -62,6 +68,7 @@ class IntersectionGuard {
   double min_face_area_;
   FaceGrid grid_;
   GuardStatistics stats_;
+  int last_blocking_face_ = -1;
   // Since the last rebuild or prepare_moves(): the vertices of allowed moves,
   // the faces of allowed flips (their boxes may have changed).
   std::vector<int> moved_vertices_;
