@@ -72,16 +72,24 @@ Mesh::VertexHandle center_of(const std::vector<Mesh::VertexHandle>& sheet, int n
   return sheet[static_cast<std::size_t>((n / 2) * (n + 1) + n / 2)];
 }
 
+// Two parallel sheets of kSheetCells^2 squares, one unit apart, the upper
+// shifted by 0.3 in x and y (its vertices numbered after the lower's);
+// returns the lower sheet's centre vertex.
+constexpr int kSheetCells = 6;
+constexpr int kSheetVertices = (kSheetCells + 1) * (kSheetCells + 1);
+Mesh::VertexHandle add_two_sheets(Mesh& mesh) {
+  const auto lower = add_sheet(mesh, kSheetCells, 0.0, 0.0);
+  add_sheet(mesh, kSheetCells, 1.0, 0.3);
+  return center_of(lower, kSheetCells);
+}
+
 }  // namespace
 
 TEST(IntersectionGuard, vetoes_a_move_that_pierces_a_neighbouring_face) {
   Mesh mesh;
-  const int n = 6;
-  const auto lower = add_sheet(mesh, n, 0.0, 0.0);
-  add_sheet(mesh, n, 1.0, 0.3);
+  const auto v = add_two_sheets(mesh);
   IntersectionGuard guard(mesh, 0.5, kMinArea);
-  const Vec3 p = to_eigen(mesh.point(center_of(lower, n)));
-  const auto v = center_of(lower, n);
+  const Vec3 p = to_eigen(mesh.point(v));
   // Through the upper sheet: vetoed.
   EXPECT_FALSE(guard.move_is_safe(v, p + Vec3(0, 0, 1.5)));
   // Exactly onto the upper sheet (touching a face that shares no vertex): vetoed.
@@ -116,11 +124,8 @@ TEST(IntersectionGuard, vetoes_a_move_that_flips_or_flattens_a_face_of_its_fan) 
 // refused move would cut, and -1 for a refusal by the move's own fan.
 TEST(IntersectionGuard, names_the_face_a_refused_move_would_cut) {
   Mesh mesh;
-  const int n = 6;
-  const auto lower = add_sheet(mesh, n, 0.0, 0.0);
-  add_sheet(mesh, n, 1.0, 0.3);
+  const auto v = add_two_sheets(mesh);
   IntersectionGuard guard(mesh, 0.5, kMinArea);
-  const auto v = center_of(lower, n);
   const Vec3 p = to_eigen(mesh.point(v));
   const Vec3 to = p + Vec3(0, 0, 1.5);
   ASSERT_FALSE(guard.move_is_safe(v, to));
@@ -130,7 +135,7 @@ TEST(IntersectionGuard, names_the_face_a_refused_move_would_cut) {
   // moved fan really cuts.
   std::array<int, 3> ids{}, fan_ids{};
   const auto other = corners(mesh, Mesh::FaceHandle(blocker), v, to, ids);
-  for (int id : ids) EXPECT_GE(id, static_cast<int>(lower.size()));
+  for (int id : ids) EXPECT_GE(id, kSheetVertices);
   bool cut = false;
   for (auto f : mesh.vf_range(v))
     cut = cut || triangles_intersect_improperly(corners(mesh, f, v, to, fan_ids), fan_ids, other, ids);
