@@ -267,7 +267,9 @@ class Deformer {
   }
 
   void check_seed() const;
-  DeformResult run();
+  // Numbers the cycles from first_cycle + 1 (cycles already run at coarser
+  // levels count toward max_cycles and the observer sees one sequence).
+  DeformResult run(int first_cycle = 0);
 
  private:
   bool run_cycle(int cycle);
@@ -1478,11 +1480,11 @@ void Deformer::improve_quality(DeformResult& result) {
   result.faces_below_min_angle = r.faces_below;
 }
 
-DeformResult Deformer::run() {
+DeformResult Deformer::run(int first_cycle) {
   DeformResult result;
   generation_property(mesh_);
-  start_stage(0);
-  int cycle = 0;
+  start_stage(first_cycle);
+  int cycle = first_cycle;
   Stopwatch clock;
   // The cycles' time goes to the stage they belong to.
   const auto stage_clock = [&]() -> double& {
@@ -1643,6 +1645,125 @@ DeformOptions growth_schedule(const DeformOptions& options) {
   return o;
 }
 
+// Multi-resolution growth (issue 17). A front crosses about a voxel a
+// cycle, and most of the cycles of a model grown from a small seed are that
+// crossing, with every face of the growing model in each. The model first
+// grows in the volume reduced 2x per level (reduce_by_two: a coarse voxel is
+// on the object's side only when its whole block is, so the coarse model
+// stays inside the object), where the front crosses twice the distance per
+// cycle with a quarter of the faces; each level's converged model is the
+// seed of the next finer level, and at full resolution the vertices travel
+// the last voxel or two. Section 7: the seed's size and shape change only
+// the time; the full-resolution run (its cycles, refinements, fit, every
+// guard) is the same as from any seed inside the object. Growing only (a
+// shrinking seed lies round the object), without an obstacle.
+constexpr int kCoarseMinExtent = 16;  // a coarser level keeps at least this many voxels on every axis
+constexpr int kCoarseQuietCycles = 3;
+constexpr double kCoarseQuietShare = 0.01;
+
+struct CoarseStart {
+  int levels = 0;       // coarser levels the model grew at
+  int cycles = 0;       // their cycles, all levels together
+  bool cancelled = false;
+};
+
+std::vector<Volume> coarser_levels(const Volume& grow_in, const DeformOptions& o) {
+  std::vector<Volume> levels;
+  if (o.mode != Mode::grow || o.obstacle) return levels;
+  const bool keep_minimum = o.polarity == Polarity::object_brighter;
+  const Volume* finer = &grow_in;
+  while (static_cast<int>(levels.size()) < o.coarse_levels) {
+    Volume coarse = reduce_by_two(*finer, keep_minimum);
+    if (coarse.dims() == finer->dims()) break;
+    if (*std::min_element(coarse.dims().begin(), coarse.dims().end()) < kCoarseMinExtent) break;
+    levels.push_back(std::move(coarse));
+    finer = &levels.back();
+  }
+  return levels;
+}
+
+// Grows `mesh` at the coarser levels, coarsest first. A level is used only
+// when every seed vertex lies inside its grid on the object's side; a level
+// whose run does not converge is dropped (the model goes back to what it was
+// before it). Returns what was done; the mesh is the seed of the next level.
+CoarseStart grow_coarse_first(Mesh& mesh, const Volume& grow_in, const Volume& input, const DeformOptions& o,
+                              const DeformObserver& observer, double& seconds) {
+  CoarseStart start;
+  std::vector<Volume> levels = coarser_levels(grow_in, o);
+  if (levels.empty()) return start;
+  Stopwatch clock;
+  DeformOptions c = o;
+  c.intensity_scale = effective_intensity_scale(o, input);  // the same unit of I at every level
+  c.global_refinements = 0;
+  c.refine_channels = false;
+  c.subvoxel_fit = false;
+  c.lod_tolerance = 0.0;
+  c.face_budget = 0;
+  c.min_angle = 0.0;
+  c.float_exact_output = false;
+  c.gap = 0.0;               // the gate is in grow_in already
+  c.fill_cavities = false;   // so are the filled cavities and the handles' membranes
+  c.cap_handles = false;
+  c.topology = Topology::solid;
+  c.stop_at_border = false;
+  for (int level = static_cast<int>(levels.size()) - 1; level >= 0; --level) {
+    const Volume& coarse = levels[static_cast<std::size_t>(level)];
+    // The first level used must hold the whole seed on the object's side (a
+    // seed in a part thinner than the level's blocks waits for a finer one);
+    // a coarser level's model is inside the object up to its blocks' half
+    // width, and a vertex left outside turns back (section 5's local flip).
+    bool inside = true;
+    if (start.levels == 0) {
+      const ImageEvent image(1.0, coarse, o.threshold, o.polarity, o.mode, 1.0);
+      for (auto v : mesh.vertices()) {
+        const Vec3 p = to_eigen(mesh.point(v));
+        if (!coarse.contains(p) || image.is_blocked(p)) {
+          inside = false;
+          break;
+        }
+      }
+    }
+    if (!inside) continue;
+    c.max_cycles = o.max_cycles - start.cycles;
+    if (c.max_cycles < 1) break;
+    Mesh before = mesh;
+    // A coarse level ends when its front has stopped: kCoarseQuietCycles
+    // cycles in a row in which under kCoarseQuietShare of the vertices moved.
+    // Its tail (a few vertices creeping into what its blocks barely show) is
+    // the finer level's work.
+    int quiet = 0;
+    bool front_stopped = false;
+    const DeformObserver level_observer = [&](const CycleReport& report) {
+      if (observer && !observer(report)) return false;
+      quiet = static_cast<double>(report.moved) < kCoarseQuietShare * static_cast<double>(report.vertices) ? quiet + 1 : 0;
+      front_stopped = quiet >= kCoarseQuietCycles;
+      return !front_stopped;
+    };
+    DeformResult r = Deformer(mesh, coarse, coarse, c, level_observer).run(start.cycles);
+    if (r.reason == StopReason::cancelled && !front_stopped) {
+      start.cancelled = true;
+      break;
+    }
+    if (front_stopped) r.reason = StopReason::converged;
+    // Section 6's 1-to-4 resampling: the finer level starts at its own
+    // level of detail (faces a quarter the area) instead of splitting there
+    // cycle by cycle. Undone if the new faces meet (Deformer::subdivide_safely).
+    if (r.reason == StopReason::converged) {
+      Mesh coarser = mesh;
+      subdivide_all(mesh, r.cycles);
+      if (self_intersecting_pairs(mesh, o.threads) != 0) mesh = std::move(coarser);
+    }
+    if (r.reason != StopReason::converged) {
+      mesh = std::move(before);
+      continue;
+    }
+    start.cycles = r.cycles;
+    ++start.levels;
+  }
+  seconds = clock.seconds();
+  return start;
+}
+
 DeformResult deform(Mesh& mesh, const Volume& volume, const DeformOptions& requested, const DeformObserver& observer) {
   validate(requested, volume);
   const DeformOptions options = growth_schedule(requested);
@@ -1654,7 +1775,17 @@ DeformResult deform(Mesh& mesh, const Volume& volume, const DeformOptions& reque
   const CavityFill fill = cavities_for(mesh, gate.applied ? gate.volume : volume, options);
   const double fill_seconds = clock.seconds();
   const Volume& gated = gate.applied ? gate.volume : volume;
-  DeformResult result = Deformer(mesh, fill.applied ? fill.volume : gated, volume, options, observer).run();
+  const Volume& grow_in = fill.applied ? fill.volume : gated;
+  double coarse_seconds = 0.0;
+  const CoarseStart coarse = grow_coarse_first(mesh, grow_in, volume, options, observer, coarse_seconds);
+  DeformResult result;
+  if (coarse.cancelled)
+    result.reason = StopReason::cancelled;
+  else
+    result = Deformer(mesh, grow_in, volume, options, observer).run(coarse.cycles);
+  result.coarse_levels = coarse.levels;
+  result.coarse_cycles = coarse.cycles;
+  result.seconds.growth += coarse_seconds;
   result.seconds.gap_gate = gate_seconds;
   result.seconds.cavity_fill = fill_seconds;
   result.gap_closed_voxels = gate.closed_voxels;

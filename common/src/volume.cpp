@@ -124,4 +124,34 @@ void Volume::physical_bounds(Vec3& lo, Vec3& hi) const {
   }
 }
 
+Volume reduce_by_two(const Volume& volume, bool keep_minimum) {
+  const Index3& n = volume.dims();
+  Index3 factor{1, 1, 1}, dims = n;
+  for (int d = 0; d < 3; ++d)
+    if (volume.spacing()[d] < 1.5 * volume.voxel_size() && n[d] >= 4) {
+      factor[d] = 2;
+      dims[d] = n[d] / 2;
+    }
+  std::vector<float> values(static_cast<std::size_t>(dims[0]) * dims[1] * dims[2]);
+  std::size_t out = 0;
+  for (int k = 0; k < dims[2]; ++k)
+    for (int j = 0; j < dims[1]; ++j)
+      for (int i = 0; i < dims[0]; ++i) {
+        float v = volume.at(factor[0] * i, factor[1] * j, factor[2] * k);
+        for (int c = 0; c < factor[2]; ++c)
+          for (int b = 0; b < factor[1]; ++b)
+            for (int a = 0; a < factor[0]; ++a) {
+              const float w = volume.at(factor[0] * i + a, factor[1] * j + b, factor[2] * k + c);
+              v = keep_minimum ? std::min(v, w) : std::max(v, w);
+            }
+        values[out++] = v;
+      }
+  // The coarse voxel sits at its block's centre: half a fine voxel in along a reduced axis.
+  const Vec3 shift(0.5 * (factor[0] - 1), 0.5 * (factor[1] - 1), 0.5 * (factor[2] - 1));
+  const Vec3 spacing(volume.spacing()[0] * factor[0], volume.spacing()[1] * factor[1], volume.spacing()[2] * factor[2]);
+  Volume coarse(dims, std::move(values), spacing, volume.to_physical(shift), volume.direction());
+  coarse.set_outside_value(volume.outside_value());
+  return coarse;
+}
+
 }  // namespace gdm

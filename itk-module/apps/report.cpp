@@ -52,7 +52,10 @@ std::string summary_text(const RunRecord& r) {
   const gdm::MeshReport& m = r.mesh;
   std::ostringstream s;
   s << "model: " << m.vertices << " vertices, " << m.faces << " faces, " << r.model.cycles << " cycles ("
-    << gdm::to_string(r.model.reason) << "), " << r.model.global_refinements << " global refinement(s)\n";
+    << gdm::to_string(r.model.reason) << "), " << r.model.global_refinements << " global refinement(s)";
+  if (r.model.coarse_levels > 0)
+    s << "; grown first at " << r.model.coarse_levels << " coarser level(s), " << r.model.coarse_cycles << " of the cycles";
+  s << "\n";
   // The final stages, when they did anything.
   std::string finish;
   const auto part = [&](std::size_t n, const char* what) {
@@ -170,6 +173,8 @@ std::string report_json(const RunRecord& r, const Options& options) {
   JsonObject model;
   model.add("stop_reason", r.model.cycles == 0 ? "null" : json_string(gdm::to_string(r.model.reason)))
       .add("cycles", json_number(r.model.cycles))
+      .add("coarse_levels", json_number(r.model.coarse_levels))
+      .add("coarse_cycles", json_number(r.model.coarse_cycles))
       .add("global_refinements", json_number(r.model.global_refinements))
       .add("rejected_moves", json_number(r.model.rejected_moves))
       .add("flips", json_number(r.model.flips))

@@ -337,6 +337,15 @@ public:
   itkSetMacro(GapSize, double);
   itkGetConstMacro(GapSize, double);
 
+  /** Multi-resolution growth, levels in [0, 4] (0 = off, the default): the
+   * model first grows in the image reduced 2x per level (a coarse voxel
+   * belongs to the object only where its whole block does), coarsest first,
+   * each level's model subdivided 1-to-4 as the seed of the next finer one;
+   * at full resolution the vertices travel the last voxel or two. Growing
+   * only; a level needs 16 voxels per axis. */
+  itkSetClampMacro(NumberOfCoarseLevels, unsigned int, 0, 4);
+  itkGetConstMacro(NumberOfCoarseLevels, unsigned int);
+
   /** Once the last stage converged, refine locally where faces are too large
    * to enter a channel the image shows, so channels wider than the gap are
    * followed at any level of detail (a tooth's canals). On by default; off,
@@ -583,6 +592,7 @@ private:
   double        m_RefinementTravel;
   double        m_GapSize;
   bool          m_RefineChannels;
+  unsigned int  m_NumberOfCoarseLevels;
   bool          m_FillCavities;
   bool          m_SubvoxelFit;
   unsigned int  m_NumberOfFitPasses;

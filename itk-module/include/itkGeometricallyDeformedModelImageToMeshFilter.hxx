@@ -63,6 +63,7 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::SetDeform
   m_RefinementTravel = o.refinement_travel;
   m_GapSize = o.gap;
   m_RefineChannels = o.refine_channels;
+  m_NumberOfCoarseLevels = static_cast<unsigned int>(o.coarse_levels);
   m_FillCavities = o.fill_cavities;
   m_SubvoxelFit = o.subvoxel_fit;
   m_NumberOfFitPasses = static_cast<unsigned int>(o.fit_passes);
@@ -153,6 +154,7 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::GetDeform
   o.refinement_travel = m_RefinementTravel;
   o.gap = m_GapSize;
   o.refine_channels = m_RefineChannels;
+  o.coarse_levels = static_cast<int>(m_NumberOfCoarseLevels);
   o.fill_cavities = m_FillCavities;
   o.subvoxel_fit = m_SubvoxelFit;
   o.fit_passes = static_cast<int>(std::min<unsigned int>(m_NumberOfFitPasses, 1000000u));
@@ -370,6 +372,7 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::PrintSelf
   os << indent << "RefinementTravel: " << m_RefinementTravel << std::endl;
   os << indent << "GapSize: " << m_GapSize << std::endl;
   os << indent << "RefineChannels: " << (m_RefineChannels ? "On" : "Off") << std::endl;
+  os << indent << "NumberOfCoarseLevels: " << m_NumberOfCoarseLevels << std::endl;
   os << indent << "FillCavities: " << m_FillCavities << std::endl;
   os << indent << "SubvoxelFit: " << (m_SubvoxelFit ? "On" : "Off") << std::endl;
   os << indent << "NumberOfFitPasses: " << m_NumberOfFitPasses << std::endl;

@@ -152,6 +152,15 @@ ExerciseBasicsAndSetGet()
   ITK_TEST_SET_GET_VALUE(false, filter->GetDeformOptions().refine_channels);
   filter->SetOption("refine_channels", 1.0);
   ITK_TEST_SET_GET_VALUE(true, filter->GetRefineChannels());
+  // NumberOfCoarseLevels (multi-resolution growth, off by default) reaches
+  // the core's options, is clamped to [0, 4], and SetOption reaches it.
+  ITK_TEST_SET_GET_VALUE(0u, filter->GetNumberOfCoarseLevels());
+  ITK_TEST_SET_GET_VALUE(2u, (filter->SetNumberOfCoarseLevels(2), filter->GetNumberOfCoarseLevels()));
+  ITK_TEST_SET_GET_VALUE(2, filter->GetDeformOptions().coarse_levels);
+  ITK_TEST_SET_GET_VALUE(4u, (filter->SetNumberOfCoarseLevels(9), filter->GetNumberOfCoarseLevels()));
+  filter->SetOption("coarse_levels", 1.0);
+  ITK_TEST_SET_GET_VALUE(1u, filter->GetNumberOfCoarseLevels());
+  filter->SetNumberOfCoarseLevels(0);
   ITK_TEST_SET_GET_BOOLEAN(filter, FloatExactOutput, true);
   filter->FloatExactOutputOff();
   FilterType::PointType center;
@@ -195,7 +204,7 @@ ExerciseBasicsAndSetGet()
          "MaximumNumberOfCycles", "ConvergenceTolerance", "ConvergenceWindow", "PreventSelfIntersection",
          "ImproveTriangles", "FlipMaximumDihedralAngle", "MaximumNumberOfFaces", "SubvoxelFit", "NumberOfFitPasses",
          "FitMaximumDistance", "FitSmoothing", "LevelOfDetailTolerance", "LevelOfDetailMinimumAngle", "LevelOfDetailRounds", "MinimumAngle", "FaceBudget",
-         "MaximumTopologyRatio", "RefinementTravel", "GapSize", "RefineChannels", "NumberOfGapClosedVoxels", "FillCavities", "NumberOfFilledCavities", "FilledCavityVolume", "NumberOfCavitiesBehindNarrowOpenings", "NumberOfCappedHandles", "FloatExactOutput", "SeedCenter", "SeedRadius",
+         "MaximumTopologyRatio", "RefinementTravel", "GapSize", "RefineChannels", "NumberOfCoarseLevels", "NumberOfGapClosedVoxels", "FillCavities", "NumberOfFilledCavities", "FilledCavityVolume", "NumberOfCavitiesBehindNarrowOpenings", "NumberOfCappedHandles", "FloatExactOutput", "SeedCenter", "SeedRadius",
          "SeedSubdivisionLevel", "StopReason", "NumberOfCycles", "NumberOfGlobalRefinementsPerformed",
          "NumberOfRejectedMoves", "NumberOfFlips", "NumberOfBorderVertices", "NumberOfFitMoves",
          "NumberOfLevelOfDetailSplits", "NumberOfLevelOfDetailCollapses", "NumberOfFloatRefusedVertices", "NumberOfBudgetCollapses",

@@ -631,6 +631,8 @@ py::dict model_report(const gdm::DeformResult& r, double seconds, double check_s
   py::dict d;
   d["stop_reason"] = gdm::to_string(r.reason);
   d["cycles"] = r.cycles;
+  d["coarse_levels"] = r.coarse_levels;
+  d["coarse_cycles"] = r.coarse_cycles;
   d["global_refinements"] = r.global_refinements;
   d["rejected_moves"] = r.rejected_moves;
   d["flips"] = r.flips;

@@ -66,6 +66,12 @@ struct DeformOptions {
                                      // sets face sizes, the gap where the model goes; inside, faces follow
                                      // the room's width, channel_width.h): the tooth's canals at the
                                      // defaults (issue 14); off = the face size decides, as in the paper
+  int coarse_levels = 0;             // multi-resolution growth, levels in [0, 4]: the model first grows in the
+                                     // volume reduced 2x per level (a coarse voxel is object only where
+                                     // its whole block is), coarsest first, each level's model subdivided
+                                     // 1-to-4 as the seed of the next finer one; at full resolution the
+                                     // vertices travel the last voxel or two (issue 17). Growing only;
+                                     // a level needs 16 voxels per axis; 0 = off
   int max_cycles = 2000;             // hard limit on deformation cycles, all stages together
   double convergence_tolerance = 0.5;  // a vertex counts as moving beyond this, voxels
   int convergence_window = 5;        // converged when nothing moved for this many cycles
@@ -150,7 +156,9 @@ std::string to_string(StopReason reason);
 
 struct DeformResult {
   StopReason reason = StopReason::converged;
-  int cycles = 0;
+  int cycles = 0;                 // all levels together (coarse_cycles of them at coarser levels)
+  int coarse_levels = 0;          // coarser levels the model grew at first (DeformOptions::coarse_levels)
+  int coarse_cycles = 0;          // their cycles
   int global_refinements = 0;     // performed
   std::size_t rejected_moves = 0; // moves vetoed by the self-intersection guard
   std::size_t flips = 0;          // edge flips performed

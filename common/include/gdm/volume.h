@@ -85,4 +85,16 @@ class Volume {
   double max_value_ = 0.0;
 };
 
+// The volume at half the resolution, for growing a model coarse first
+// (multi-resolution growth, issue 17): along each axis whose spacing is below
+// 1.5 times the smallest (so 1 x 1 x 2 mm becomes 2 x 2 x 2), pairs of voxels
+// become one at their centre (a trailing odd voxel is dropped, so the coarse
+// grid lies inside the fine one); the new voxel holds the block's minimum
+// (keep_minimum) or maximum. The extreme, not the mean: a coarse voxel is on
+// the object's side of a threshold only when the whole block is, so a model
+// grown in the coarse volume stays in the object (no opening one voxel
+// wide is closed by averaging, none is opened). Axes with fewer than 4 voxels
+// are kept. Outside value, direction kept.
+Volume reduce_by_two(const Volume& volume, bool keep_minimum);
+
 }  // namespace gdm
