@@ -41,6 +41,7 @@ void run(benchmark::State& state, const Case& k) {
   options.threshold = 125.0;
   options.lod_face_area = k.lod;
   options.threads = static_cast<int>(state.range(0));
+  options.coarse_levels = static_cast<int>(state.range(1));  // multi-resolution growth (0 = off, the default)
   std::size_t faces = 0, evaluated = 0;
   int cycles = 0;
   StageSeconds seconds;  // the last run's, per step
@@ -84,6 +85,15 @@ void BM_branching_nerve(benchmark::State& state) {
 
 }  // namespace
 
-BENCHMARK(BM_cube_with_corner_missing)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_branching_nerve)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+// Arguments: threads, coarse levels.
+BENCHMARK(BM_cube_with_corner_missing)
+    ->ArgNames({"threads", "coarse_levels"})
+    ->ArgsProduct({{1, 2}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK(BM_branching_nerve)
+    ->ArgNames({"threads", "coarse_levels"})
+    ->ArgsProduct({{1, 2}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 BENCHMARK_MAIN();
