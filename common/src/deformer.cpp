@@ -352,6 +352,7 @@ class Deformer {
     Vec3 to = Vec3::Zero();                 // the refused position
     int clock = -1;                         // touch_clock_ then (-1: none)
     std::array<int, 3> blocker{-1, -1, -1};  // the vertices of the face it would have cut (-1: its own fan)
+    int face = -1;                           // that face (-1: its own fan), the guard's first test next time
   };
   std::vector<Refusal> refusal_;
   std::vector<Vec3> anchor_;          // position when last counted as moving
@@ -571,15 +572,17 @@ bool Deformer::guard_allows(Mesh::VertexHandle v, const Vec3& p) {
     guard_->count_rejected_move();
     return false;
   }
-  if (guard_->move_is_safe(v, p)) {
+  if (guard_->move_is_safe(v, p, refusal_[i].face)) {
     refusal_[i].clock = -1;
+    refusal_[i].face = -1;
     return true;
   }
   Refusal& r = refusal_[i];
   r.to = p;
   r.clock = touch_clock_;
   r.blocker = {-1, -1, -1};
-  if (const int f = guard_->last_blocking_face(); f >= 0) {
+  r.face = guard_->last_blocking_face();
+  if (const int f = r.face; f >= 0) {
     int k = 0;
     for (auto w : mesh_.fv_range(Mesh::FaceHandle(f))) r.blocker[static_cast<std::size_t>(k++)] = w.idx();
   }

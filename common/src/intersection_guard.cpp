@@ -84,7 +84,7 @@ bool IntersectionGuard::triangle_is_clear(const Triangle& t, const std::vector<i
   return clear;
 }
 
-bool IntersectionGuard::move_is_safe(Mesh::VertexHandle v, const Vec3& p) {
+bool IntersectionGuard::move_is_safe(Mesh::VertexHandle v, const Vec3& p, int hint) {
   std::vector<int>& ring_faces = ring_faces_;
   ring_faces.clear();
   for (auto f : mesh_->vf_range(v)) ring_faces.push_back(f.idx());
@@ -115,21 +115,37 @@ bool IntersectionGuard::move_is_safe(Mesh::VertexHandle v, const Vec3& p) {
     lo = lo.cwiseMin(boxes.back().first);
     hi = hi.cwiseMax(boxes.back().second);
   }
-  bool clear = true;
-  grid_.for_each_near(lo, hi, [&](int g) {
-    if (!clear) return;
+  // Whether face g cuts the moved fan. A fan face is tested against the fan
+  // faces before it only: each pair within the fan once (the predicate's
+  // answer does not depend on the order).
+  const auto cuts_fan = [&](int g) {
     const Triangle other = face_triangle(g, v.idx(), p);
     const Vec3 olo = other.p[0].cwiseMin(other.p[1]).cwiseMin(other.p[2]);
     const Vec3 ohi = other.p[0].cwiseMax(other.p[1]).cwiseMax(other.p[2]);
-    for (std::size_t i = 0; i < fan.size() && clear; ++i) {
-      if (ring_faces[i] == g) continue;
+    const auto end = static_cast<std::size_t>(std::find(ring_faces.begin(), ring_faces.end(), g) - ring_faces.begin());
+    for (std::size_t i = 0; i < end; ++i) {
       if ((olo.array() > boxes[i].second.array()).any() || (ohi.array() < boxes[i].first.array()).any()) continue;
-      if (triangles_intersect_improperly(fan[i].p, fan[i].id, other.p, other.id)) {
+      if (triangles_intersect_improperly(fan[i].p, fan[i].id, other.p, other.id)) return true;
+    }
+    return false;
+  };
+  // The face that refused this vertex's last move first: a vertex pressed
+  // against another part of the model is mostly refused by the same face
+  // again, and any face that cuts the fan refuses the move (the grid would
+  // offer that face too), so the answer is the one the whole query gives.
+  bool clear = true;
+  if (hint >= 0 && static_cast<std::size_t>(hint) < mesh_->n_faces() &&
+      !(mesh_->has_face_status() && mesh_->status(Mesh::FaceHandle(hint)).deleted()) && cuts_fan(hint)) {
+    clear = false;
+    last_blocking_face_ = hint;
+  }
+  if (clear)
+    grid_.for_each_near(lo, hi, [&](int g) {
+      if (clear && cuts_fan(g)) {
         clear = false;
         last_blocking_face_ = g;
       }
-    }
-  });
+    });
   if (!clear)
     ++stats_.rejected_moves;
   else if (moved_vertices_.size() <= mesh_->n_faces())  // beyond: prepare_moves() looks at every face

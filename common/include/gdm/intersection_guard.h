@@ -39,8 +39,10 @@ class IntersectionGuard {
   void note_new_faces() { grid_.register_new_faces(*mesh_); }
 
   // Would moving v to p leave every face non-degenerate, with its orientation
-  // kept, and free of improper intersections with all other faces?
-  bool move_is_safe(Mesh::VertexHandle v, const Vec3& p);
+  // kept, and free of improper intersections with all other faces? `hint`: a
+  // face likely to cut the moved fan (the one that refused v's last move),
+  // tested first; the answer does not depend on it.
+  bool move_is_safe(Mesh::VertexHandle v, const Vec3& p, int hint = -1);
 
   // Would the flip creating (q0, q1, q3) and (q2, q3, q1) from the faces
   // around edge e keep the mesh free of intersections?
