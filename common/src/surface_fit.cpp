@@ -1,6 +1,7 @@
 #include "gdm/surface_fit.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -11,6 +12,111 @@
 #include "gdm/parallel.h"
 
 namespace gdm {
+
+namespace {
+
+// A polynomial of degree at most 3 in t, lowest coefficient first.
+using Cubic = std::array<double, 4>;
+
+double evaluate(const Cubic& a, double t) { return ((a[3] * t + a[2]) * t + a[1]) * t + a[0]; }
+
+// a + f (b - a) for f affine in t (f0 + f1 t): one degree more than a, b.
+Cubic lerp(const Cubic& a, const Cubic& b, double f0, double f1) {
+  Cubic r{};
+  for (int k = 0; k < 4; ++k) {
+    const double diff = b[static_cast<std::size_t>(k)] - a[static_cast<std::size_t>(k)];
+    r[static_cast<std::size_t>(k)] += a[static_cast<std::size_t>(k)] + f0 * diff;
+    if (k < 3) r[static_cast<std::size_t>(k) + 1] += f1 * diff;
+  }
+  return r;
+}
+
+// The trilinear field along the continuous-index line c0 + t d, in the grid
+// cell that holds the line's point at t: each interpolation weight is affine
+// in t, so the field is a cubic there (the cell chosen as Volume::sample
+// chooses it). False when that point is outside the grid.
+bool cell_cubic(const Volume& volume, const Vec3& c0, const Vec3& d, double t, Cubic& out) {
+  const Index3& n = volume.dims();
+  const Vec3 c = c0 + t * d;
+  int base[3];
+  for (int a = 0; a < 3; ++a) {
+    if (!(c[a] >= 0.0 && c[a] <= n[a] - 1)) return false;
+    int b = static_cast<int>(c[a]);
+    if (b >= n[a] - 1) b = n[a] - 2;
+    base[a] = b;
+  }
+  const std::size_t sx = 1, sy = static_cast<std::size_t>(n[0]), sz = sy * static_cast<std::size_t>(n[1]);
+  const float* p = volume.values().data() + base[0] * sx + base[1] * sy + base[2] * sz;
+  const double fx0 = c0[0] - base[0], fy0 = c0[1] - base[1], fz0 = c0[2] - base[2];
+  // Along x the differences of neighbours in float, as Volume::sample takes
+  // them: the cubic is the field sample() gives, up to double rounding.
+  const auto along_x = [&](std::size_t o) {
+    const double diff = static_cast<double>(p[o + sx] - p[o]);
+    return Cubic{p[o] + fx0 * diff, d[0] * diff, 0.0, 0.0};
+  };
+  const Cubic c00 = along_x(0), c10 = along_x(sy), c01 = along_x(sz), c11 = along_x(sz + sy);
+  out = lerp(lerp(c00, c10, fy0, d[1]), lerp(c01, c11, fy0, d[1]), fz0, d[2]);
+  return true;
+}
+
+// The crossing of the threshold nearest `near` in the bracket between t
+// values `near` and `far` (both inside the grid, the field's signs there
+// differing), solved on the field's cubic in each cell the segment passes
+// through rather than by sampling the volume again: empty when rounding
+// leaves the cubics without a sign change (the caller then samples).
+std::optional<double> crossing_on_cubics(const Volume& volume, double threshold, const Vec3& p, const Vec3& dir,
+                                         double near, double far) {
+  const Vec3 c0 = volume.to_continuous_index(p);
+  const Vec3 d = volume.to_continuous_index(p + dir) - c0;
+  // Where the segment crosses a cell boundary, as fractions of the way from
+  // near to far (at most one per axis for a bracket of a quarter voxel, a
+  // few in general).
+  std::array<double, 8> cut{};
+  std::size_t cuts = 0;
+  cut[cuts++] = 0.0;
+  for (int a = 0; a < 3; ++a) {
+    const double from = c0[a] + near * d[a], to = c0[a] + far * d[a];
+    if (from == to) continue;
+    for (double k = std::floor(std::min(from, to)) + 1.0; k < std::max(from, to) && cuts < cut.size() - 1; k += 1.0)
+      cut[cuts++] = (k - from) / (to - from);
+  }
+  std::sort(cut.begin() + 1, cut.begin() + static_cast<std::ptrdiff_t>(cuts));
+  cut[cuts++] = 1.0;
+  const double tolerance = 1e-12 * std::abs(far - near);
+  for (std::size_t k = 0; k + 1 < cuts; ++k) {
+    double lo = near + cut[k] * (far - near), hi = near + cut[k + 1] * (far - near);
+    if (lo == hi) continue;
+    Cubic g;
+    if (!cell_cubic(volume, c0, d, 0.5 * (lo + hi), g)) return std::nullopt;
+    g[0] -= threshold;
+    double glo = evaluate(g, lo), ghi = evaluate(g, hi);
+    if (glo == 0.0) return lo;
+    if ((glo <= 0.0) == (ghi <= 0.0) && ghi != 0.0) continue;
+    if (ghi == 0.0) return hi;
+    // Illinois regula falsi on the cubic, to the precision of the doubles.
+    int last_side = 0;
+    for (int it = 0; it < 100; ++it) {
+      const double t = (lo * ghi - hi * glo) / (ghi - glo);
+      const double gt = evaluate(g, t);
+      if (gt == 0.0 || !(std::abs(hi - lo) > tolerance)) return t;
+      if ((gt <= 0.0) == (glo <= 0.0)) {
+        lo = t;
+        glo = gt;
+        if (last_side == -1) ghi *= 0.5;
+        last_side = -1;
+      } else {
+        hi = t;
+        ghi = gt;
+        if (last_side == 1) glo *= 0.5;
+        last_side = 1;
+      }
+    }
+    return (lo * ghi - hi * glo) / (ghi - glo);
+  }
+  return std::nullopt;
+}
+
+}  // namespace
 
 std::optional<double> find_crossing(const Volume& volume, double threshold, const Vec3& p, const Vec3& dir,
                                     double max_mm, double step_mm) {
@@ -53,6 +159,7 @@ std::optional<double> find_crossing(const Volume& volume, double threshold, cons
   }
   if (!found) return std::nullopt;
   if (ghi == 0.0) return hi;
+  if (const auto t = crossing_on_cubics(volume, threshold, p, dir, lo, hi)) return t;
   // Illinois regula falsi: one step on a linear field, superlinear otherwise.
   int last_side = 0;
   for (int it = 0; it < 60; ++it) {
