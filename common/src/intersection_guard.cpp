@@ -103,29 +103,38 @@ bool IntersectionGuard::move_is_safe(Mesh::VertexHandle v, const Vec3& p, int hi
   // once and tested against each fan face whose box it meets. Pairs within
   // the fan are checked too (their shared vertex is known to the predicate),
   // so a fan cannot fold over itself.
-  std::vector<Triangle>& fan = fan_;
+  // Each triangle with its normal, computed once for all the pairs it is in.
+  std::vector<FilteredTriangle>& fan = fan_;
   fan.clear();
   Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
   std::vector<std::pair<Vec3, Vec3>>& boxes = fan_boxes_;
   boxes.clear();
   for (int f : ring_faces) {
-    fan.push_back(face_triangle(f, v.idx(), p));
-    const Triangle& t = fan.back();
+    const Triangle t = face_triangle(f, v.idx(), p);
+    fan.emplace_back(t.p, t.id);
     boxes.emplace_back(t.p[0].cwiseMin(t.p[1]).cwiseMin(t.p[2]), t.p[0].cwiseMax(t.p[1]).cwiseMax(t.p[2]));
     lo = lo.cwiseMin(boxes.back().first);
     hi = hi.cwiseMax(boxes.back().second);
   }
   // Whether face g cuts the moved fan. A fan face is tested against the fan
   // faces before it only: each pair within the fan once (the predicate's
-  // answer does not depend on the order).
+  // answer does not depend on the order). The predicate's scale: the extent
+  // of the box around both triangles.
   const auto cuts_fan = [&](int g) {
-    const Triangle other = face_triangle(g, v.idx(), p);
-    const Vec3 olo = other.p[0].cwiseMin(other.p[1]).cwiseMin(other.p[2]);
-    const Vec3 ohi = other.p[0].cwiseMax(other.p[1]).cwiseMax(other.p[2]);
+    const Triangle t = face_triangle(g, v.idx(), p);
+    const Vec3 olo = t.p[0].cwiseMin(t.p[1]).cwiseMin(t.p[2]);
+    const Vec3 ohi = t.p[0].cwiseMax(t.p[1]).cwiseMax(t.p[2]);
     const auto end = static_cast<std::size_t>(std::find(ring_faces.begin(), ring_faces.end(), g) - ring_faces.begin());
+    FilteredTriangle other;
+    bool built = false;
     for (std::size_t i = 0; i < end; ++i) {
       if ((olo.array() > boxes[i].second.array()).any() || (ohi.array() < boxes[i].first.array()).any()) continue;
-      if (triangles_intersect_improperly(fan[i].p, fan[i].id, other.p, other.id)) return true;
+      if (!built) {
+        other = FilteredTriangle(t.p, t.id);
+        built = true;
+      }
+      const double scale = (ohi.cwiseMax(boxes[i].second) - olo.cwiseMin(boxes[i].first)).maxCoeff();
+      if (triangles_intersect_improperly(fan[i], other, scale)) return true;
     }
     return false;
   };

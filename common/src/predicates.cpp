@@ -358,17 +358,19 @@ namespace {
 // corners from it (all strictly on one side, by a margin far above rounding
 // error), so the pair cannot meet improperly; -1 when it cannot tell (the
 // exact code then decides). Both triangles must be clearly non-degenerate.
-int separated_by_a_plane(const std::array<Vec3, 3>& t1, const std::array<int, 3>& ids1,
-                         const std::array<Vec3, 3>& t2, const std::array<int, 3>& ids2) {
-  double scale = 0.0;
-  for (const auto* t : {&t1, &t2})
-    for (const auto& p : *t) scale = std::max(scale, (p - t1[0]).cwiseAbs().maxCoeff());
+// The filter's test with the normals n1, n2 of t1, t2 ((p1 - p0) x (p2 - p0)),
+// their lengths, and `scale` at least max |q - t1[0]| (infinity norm) over
+// the corners q of both: the margins below grow with it (a larger bound is
+// more cautious, never wrong).
+int separated_by_a_plane(const std::array<Vec3, 3>& t1, const std::array<int, 3>& ids1, const Vec3& n1, double len1,
+                         const std::array<Vec3, 3>& t2, const std::array<int, 3>& ids2, const Vec3& n2, double len2,
+                         double scale) {
   if (!(scale > 0.0) || !std::isfinite(scale)) return -1;
-  const auto plane_separates = [&](const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b,
-                                   const std::array<int, 3>& ida, const std::array<int, 3>& idb) {
-    const Vec3 n = (a[1] - a[0]).cross(a[2] - a[0]);
-    const double n_norm = n.norm();
-    if (!(n_norm > 1e-6 * scale * scale)) return false;  // too thin to trust the filter
+  const double least = 1e-6 * scale * scale;
+  if (!(len1 > least) || !(len2 > least)) return -1;  // a (nearly) degenerate triangle goes to the exact code
+  const auto plane_separates = [&](const std::array<Vec3, 3>& a, const Vec3& n, double n_norm,
+                                   const std::array<Vec3, 3>& b, const std::array<int, 3>& ida,
+                                   const std::array<int, 3>& idb) {
     const double margin = 1e-10 * n_norm * scale;
     int side = 0;
     for (int j = 0; j < 3; ++j) {
@@ -380,11 +382,26 @@ int separated_by_a_plane(const std::array<Vec3, 3>& t1, const std::array<int, 3>
     }
     return side != 0;
   };
-  for (const auto* t : {&t1, &t2})  // a (nearly) degenerate triangle goes to the exact code
-    if (!(((*t)[1] - (*t)[0]).cross((*t)[2] - (*t)[0]).norm() > 1e-6 * scale * scale)) return -1;
-  if (plane_separates(t1, t2, ids1, ids2) || plane_separates(t2, t1, ids2, ids1)) return 0;
+  if (plane_separates(t1, n1, len1, t2, ids1, ids2) || plane_separates(t2, n2, len2, t1, ids2, ids1)) return 0;
   return -1;
 }
+
+// The same with everything computed here (scale: the least bound).
+int separated_by_a_plane(const std::array<Vec3, 3>& t1, const std::array<int, 3>& ids1,
+                         const std::array<Vec3, 3>& t2, const std::array<int, 3>& ids2) {
+  double scale = 0.0;
+  for (const auto* t : {&t1, &t2})
+    for (const auto& p : *t) scale = std::max(scale, (p - t1[0]).cwiseAbs().maxCoeff());
+  const Vec3 n1 = (t1[1] - t1[0]).cross(t1[2] - t1[0]), n2 = (t2[1] - t2[0]).cross(t2[2] - t2[0]);
+  return separated_by_a_plane(t1, ids1, n1, n1.norm(), t2, ids2, n2, n2.norm(), scale);
+}
+
+}  // namespace
+
+namespace {
+
+bool intersect_improperly_after_the_plane_filter(const std::array<Vec3, 3>& t1, const std::array<int, 3>& ids1,
+                                                 const std::array<Vec3, 3>& t2, const std::array<int, 3>& ids2);
 
 }  // namespace
 
@@ -393,6 +410,21 @@ bool triangles_intersect_improperly(const std::array<Vec3, 3>& t1,
                                     const std::array<Vec3, 3>& t2,
                                     const std::array<int, 3>& ids2) {
   if (const int quick = separated_by_a_plane(t1, ids1, t2, ids2); quick >= 0) return quick != 0;
+  return intersect_improperly_after_the_plane_filter(t1, ids1, t2, ids2);
+}
+
+FilteredTriangle::FilteredTriangle(const std::array<Vec3, 3>& points, const std::array<int, 3>& ids)
+    : p(points), id(ids), normal((points[1] - points[0]).cross(points[2] - points[0])), length(normal.norm()) {}
+
+bool triangles_intersect_improperly(const FilteredTriangle& a, const FilteredTriangle& b, double scale) {
+  if (separated_by_a_plane(a.p, a.id, a.normal, a.length, b.p, b.id, b.normal, b.length, scale) >= 0) return false;
+  return intersect_improperly_after_the_plane_filter(a.p, a.id, b.p, b.id);
+}
+
+namespace {
+
+bool intersect_improperly_after_the_plane_filter(const std::array<Vec3, 3>& t1, const std::array<int, 3>& ids1,
+                                                 const std::array<Vec3, 3>& t2, const std::array<int, 3>& ids2) {
   if (const int quick = separated_by_an_axis(t1, ids1, t2, ids2); quick >= 0) return quick != 0;
 
   // Degenerate triangles: a zero-area face has no well-defined side, so it
@@ -467,5 +499,7 @@ bool triangles_intersect_improperly(const std::array<Vec3, 3>& t1,
   // and lies in the same plane).
   return side_a == side_b;
 }
+
+}  // namespace
 
 }  // namespace gdm

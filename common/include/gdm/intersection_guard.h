@@ -9,6 +9,7 @@
 
 #include "gdm/face_grid.h"
 #include "gdm/mesh.h"
+#include "gdm/predicates.h"
 
 namespace gdm {
 
@@ -78,7 +79,7 @@ class IntersectionGuard {
   std::vector<int> changed_faces_;  // prepare_moves()'s scratch
   // move_is_safe's scratch, kept to spare an allocation per call.
   std::vector<int> ring_faces_;
-  std::vector<Triangle> fan_;
+  std::vector<FilteredTriangle> fan_;
   std::vector<std::pair<Vec3, Vec3>> fan_boxes_;
 };
 

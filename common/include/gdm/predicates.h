@@ -60,4 +60,23 @@ bool triangles_intersect_improperly(const std::array<Vec3, 3>& t1,
                                     const std::array<Vec3, 3>& t2,
                                     const std::array<int, 3>& ids2);
 
+// A triangle with what the predicate's floating-point filter computes of
+// it, for a caller that tests one triangle against many (the intersection
+// guard): the normal (p[1] - p[0]) x (p[2] - p[0]) and its length.
+struct FilteredTriangle {
+  std::array<Vec3, 3> p;
+  std::array<int, 3> id;
+  Vec3 normal;
+  double length = 0.0;
+  FilteredTriangle() = default;
+  FilteredTriangle(const std::array<Vec3, 3>& points, const std::array<int, 3>& ids);
+};
+
+// The same answer as triangles_intersect_improperly(a.p, a.id, b.p, b.id),
+// with the normals computed once. `scale`: at least the largest coordinate
+// difference (any axis) between a.p[0] and a corner of either triangle (the
+// extent of a box around both will do); a larger bound only makes the
+// filter more cautious, never the answer different.
+bool triangles_intersect_improperly(const FilteredTriangle& a, const FilteredTriangle& b, double scale);
+
 }  // namespace gdm
