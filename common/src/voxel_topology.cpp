@@ -48,14 +48,34 @@ std::size_t index(const Index3& n, int i, int j, int k) {
 }
 
 // Floods from the voxels on `stack` through the voxels for which `member`
-// holds, 26- or 6-connected, marking `seen`.
+// holds, 26- or 6-connected, marking `seen`. Voxels off the grid's border
+// take their neighbours by fixed index offsets, without bounds checks.
 template <typename Member>
 void flood(const Index3& n, bool connect26, std::vector<char>& seen, std::vector<std::size_t>& stack, Member&& member) {
   const std::size_t nx = static_cast<std::size_t>(n[0]), ny = static_cast<std::size_t>(n[1]);
+  const std::ptrdiff_t sy = static_cast<std::ptrdiff_t>(nx), sz = static_cast<std::ptrdiff_t>(nx * ny);
+  std::array<std::ptrdiff_t, 26> offset{};
+  std::size_t offsets = 0;
+  for (int dz = -1; dz <= 1; ++dz)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const int l1 = (dx != 0) + (dy != 0) + (dz != 0);
+        if (l1 == 0 || (!connect26 && l1 > 1)) continue;
+        offset[offsets++] = dx + dy * sy + dz * sz;
+      }
   while (!stack.empty()) {
     const std::size_t c = stack.back();
     stack.pop_back();
     const int i = static_cast<int>(c % nx), j = static_cast<int>((c / nx) % ny), k = static_cast<int>(c / (nx * ny));
+    if (i > 0 && j > 0 && k > 0 && i < n[0] - 1 && j < n[1] - 1 && k < n[2] - 1) {
+      for (std::size_t o = 0; o < offsets; ++o) {
+        const std::size_t m = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(c) + offset[o]);
+        if (seen[m] || !member(m)) continue;
+        seen[m] = 1;
+        stack.push_back(m);
+      }
+      continue;
+    }
     for (int dz = -1; dz <= 1; ++dz)
       for (int dy = -1; dy <= 1; ++dy)
         for (int dx = -1; dx <= 1; ++dx) {
@@ -86,12 +106,14 @@ std::int64_t euler_characteristic(const std::vector<char>& set, const Index3& n)
       // The window's four rows: bit 2 dy + 4 dz names row (j - 1 + dy, k - 1 + dz).
       const char* rows[4] = {row(j - 1, k - 1), row(j, k - 1), row(j - 1, k), row(j, k)};
       if (rows[0] == empty.data() && rows[1] == empty.data() && rows[2] == empty.data() && rows[3] == empty.data()) continue;
+      // Bit 2 r + 1 (voxel i of row r) becomes bit 2 r (voxel i - 1) at the
+      // next window.
+      int config = 0;
       for (int i = 0; i <= n[0]; ++i) {
-        int config = 0;
-        for (int r = 0; r < 4; ++r) {
-          if (i > 0 && rows[r][i - 1]) config |= 1 << (2 * r);
-          if (i < n[0] && rows[r][i]) config |= 1 << (2 * r + 1);
-        }
+        config = (config >> 1) & 0x55;
+        if (i < n[0])
+          for (int r = 0; r < 4; ++r)
+            if (rows[r][i]) config |= 1 << (2 * r + 1);
         eight += table[static_cast<std::size_t>(config)];
       }
     }
