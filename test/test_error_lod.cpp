@@ -73,7 +73,7 @@ TEST(CrossingSearch, is_within_a_billionth_of_a_step_on_a_curved_field) {
   const Vec3 c(11.7, 12.2, 11.9);
   const Volume volume = ph::voxelize(grid, [&](const Vec3& p) { return (p - c).norm() - 6.3; }, kBackground, kContrast, 1.0);
   const double step = 0.25;
-  int checked = 0;
+  int checked = 0, coarse_found = 0;
   for (int k = 0; k < 40; ++k) {
     const double a = 0.7 * k, b = 0.31 * k;
     const Vec3 dir = Vec3(std::cos(a) * std::sin(b + 0.4), std::sin(a) * std::sin(b + 0.4), std::cos(b + 0.4)).normalized();
@@ -90,8 +90,17 @@ TEST(CrossingSearch, is_within_a_billionth_of_a_step_on_a_curved_field) {
     }
     EXPECT_NEAR(*t, 0.5 * (lo + hi), 1e-9 * step) << "search " << k;
     ++checked;
+    // Coarser steps bracket over several cells (past a few per axis the
+    // cubics give way to sampling): what they find is still a crossing.
+    for (const double coarse : {1.5, 3.0, 5.0}) {
+      const auto tc = find_crossing(volume, kThreshold, p, dir, 10.0, coarse);
+      if (!tc) continue;  // a step over two crossings finds neither
+      EXPECT_NEAR(volume.sample(p + *tc * dir), kThreshold, 1e-6 * kContrast) << "search " << k << ", step " << coarse;
+      ++coarse_found;
+    }
   }
   EXPECT_GE(checked, 30);
+  EXPECT_GE(coarse_found, 40);
 }
 
 TEST(CrossingSearch, finds_nothing_out_of_reach) {

@@ -77,8 +77,10 @@ std::optional<double> crossing_on_cubics(const Volume& volume, double threshold,
   for (int a = 0; a < 3; ++a) {
     const double from = c0[a] + near * d[a], to = c0[a] + far * d[a];
     if (from == to) continue;
-    for (double k = std::floor(std::min(from, to)) + 1.0; k < std::max(from, to) && cuts < cut.size() - 1; k += 1.0)
+    for (double k = std::floor(std::min(from, to)) + 1.0; k < std::max(from, to); k += 1.0) {
+      if (cuts == cut.size() - 1) return std::nullopt;  // a bracket over many cells: the caller samples
       cut[cuts++] = (k - from) / (to - from);
+    }
   }
   std::sort(cut.begin() + 1, cut.begin() + static_cast<std::ptrdiff_t>(cuts));
   cut[cuts++] = 1.0;
