@@ -48,46 +48,39 @@ std::size_t index(const Index3& n, int i, int j, int k) {
 }
 
 // Floods from the voxels on `stack` through the voxels for which `member`
-// holds, 26- or 6-connected, marking `seen`. Voxels off the grid's border
-// take their neighbours by fixed index offsets, without bounds checks.
+// holds, 26- or 6-connected, marking `seen`. A neighbour is a fixed index
+// offset away; only voxels on the grid's border check its bounds.
 template <typename Member>
 void flood(const Index3& n, bool connect26, std::vector<char>& seen, std::vector<std::size_t>& stack, Member&& member) {
   const std::size_t nx = static_cast<std::size_t>(n[0]), ny = static_cast<std::size_t>(n[1]);
   const std::ptrdiff_t sy = static_cast<std::ptrdiff_t>(nx), sz = static_cast<std::ptrdiff_t>(nx * ny);
+  // The neighbours: their steps, and the index offset of each.
+  std::array<std::array<int, 3>, 26> step{};
   std::array<std::ptrdiff_t, 26> offset{};
-  std::size_t offsets = 0;
+  std::size_t neighbours = 0;
   for (int dz = -1; dz <= 1; ++dz)
     for (int dy = -1; dy <= 1; ++dy)
       for (int dx = -1; dx <= 1; ++dx) {
         const int l1 = (dx != 0) + (dy != 0) + (dz != 0);
         if (l1 == 0 || (!connect26 && l1 > 1)) continue;
-        offset[offsets++] = dx + dy * sy + dz * sz;
+        step[neighbours] = {dx, dy, dz};
+        offset[neighbours++] = dx + dy * sy + dz * sz;
       }
   while (!stack.empty()) {
     const std::size_t c = stack.back();
     stack.pop_back();
     const int i = static_cast<int>(c % nx), j = static_cast<int>((c / nx) % ny), k = static_cast<int>(c / (nx * ny));
-    if (i > 0 && j > 0 && k > 0 && i < n[0] - 1 && j < n[1] - 1 && k < n[2] - 1) {
-      for (std::size_t o = 0; o < offsets; ++o) {
-        const std::size_t m = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(c) + offset[o]);
-        if (seen[m] || !member(m)) continue;
-        seen[m] = 1;
-        stack.push_back(m);
+    const bool interior = i > 0 && j > 0 && k > 0 && i < n[0] - 1 && j < n[1] - 1 && k < n[2] - 1;
+    for (std::size_t s = 0; s < neighbours; ++s) {
+      if (!interior) {
+        const int u = i + step[s][0], v = j + step[s][1], w = k + step[s][2];
+        if (u < 0 || v < 0 || w < 0 || u >= n[0] || v >= n[1] || w >= n[2]) continue;
       }
-      continue;
+      const std::size_t m = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(c) + offset[s]);
+      if (seen[m] || !member(m)) continue;
+      seen[m] = 1;
+      stack.push_back(m);
     }
-    for (int dz = -1; dz <= 1; ++dz)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          const int l1 = (dx != 0) + (dy != 0) + (dz != 0);
-          if (l1 == 0 || (!connect26 && l1 > 1)) continue;
-          const int u = i + dx, v = j + dy, w = k + dz;
-          if (u < 0 || v < 0 || w < 0 || u >= n[0] || v >= n[1] || w >= n[2]) continue;
-          const std::size_t m = index(n, u, v, w);
-          if (seen[m] || !member(m)) continue;
-          seen[m] = 1;
-          stack.push_back(m);
-        }
   }
 }
 
