@@ -357,11 +357,11 @@ namespace {
 // one triangle's plane provably separates the other triangle's unshared
 // corners from it (all strictly on one side, by a margin far above rounding
 // error), so the pair cannot meet improperly; -1 when it cannot tell (the
-// exact code then decides). Both triangles must be clearly non-degenerate.
-// The filter's test with the normals n1, n2 of t1, t2 ((p1 - p0) x (p2 - p0)),
-// their lengths, and `scale` at least max |q - t1[0]| (infinity norm) over
-// the corners q of both: the margins below grow with it (a larger bound is
-// more cautious, never wrong).
+// exact code then decides; so it does for a nearly degenerate triangle).
+// n1, n2: the normals (p1 - p0) x (p2 - p0) of t1, t2, len1, len2 their
+// lengths; `scale` at least max |q - t1[0]| (infinity norm) over the corners
+// q of both: the margins grow with it (a larger bound is more cautious,
+// never wrong).
 int separated_by_a_plane(const std::array<Vec3, 3>& t1, const std::array<int, 3>& ids1, const Vec3& n1, double len1,
                          const std::array<Vec3, 3>& t2, const std::array<int, 3>& ids2, const Vec3& n2, double len2,
                          double scale) {
@@ -396,33 +396,7 @@ int separated_by_a_plane(const std::array<Vec3, 3>& t1, const std::array<int, 3>
   return separated_by_a_plane(t1, ids1, n1, n1.norm(), t2, ids2, n2, n2.norm(), scale);
 }
 
-}  // namespace
-
-namespace {
-
-bool intersect_improperly_after_the_plane_filter(const std::array<Vec3, 3>& t1, const std::array<int, 3>& ids1,
-                                                 const std::array<Vec3, 3>& t2, const std::array<int, 3>& ids2);
-
-}  // namespace
-
-bool triangles_intersect_improperly(const std::array<Vec3, 3>& t1,
-                                    const std::array<int, 3>& ids1,
-                                    const std::array<Vec3, 3>& t2,
-                                    const std::array<int, 3>& ids2) {
-  if (const int quick = separated_by_a_plane(t1, ids1, t2, ids2); quick >= 0) return quick != 0;
-  return intersect_improperly_after_the_plane_filter(t1, ids1, t2, ids2);
-}
-
-FilteredTriangle::FilteredTriangle(const std::array<Vec3, 3>& points, const std::array<int, 3>& ids)
-    : p(points), id(ids), normal((points[1] - points[0]).cross(points[2] - points[0])), length(normal.norm()) {}
-
-bool triangles_intersect_improperly(const FilteredTriangle& a, const FilteredTriangle& b, double scale) {
-  if (separated_by_a_plane(a.p, a.id, a.normal, a.length, b.p, b.id, b.normal, b.length, scale) >= 0) return false;
-  return intersect_improperly_after_the_plane_filter(a.p, a.id, b.p, b.id);
-}
-
-namespace {
-
+// triangles_intersect_improperly once the plane filter could not tell.
 bool intersect_improperly_after_the_plane_filter(const std::array<Vec3, 3>& t1, const std::array<int, 3>& ids1,
                                                  const std::array<Vec3, 3>& t2, const std::array<int, 3>& ids2) {
   if (const int quick = separated_by_an_axis(t1, ids1, t2, ids2); quick >= 0) return quick != 0;
@@ -501,5 +475,21 @@ bool intersect_improperly_after_the_plane_filter(const std::array<Vec3, 3>& t1, 
 }
 
 }  // namespace
+
+bool triangles_intersect_improperly(const std::array<Vec3, 3>& t1,
+                                    const std::array<int, 3>& ids1,
+                                    const std::array<Vec3, 3>& t2,
+                                    const std::array<int, 3>& ids2) {
+  if (const int quick = separated_by_a_plane(t1, ids1, t2, ids2); quick >= 0) return quick != 0;
+  return intersect_improperly_after_the_plane_filter(t1, ids1, t2, ids2);
+}
+
+FilteredTriangle::FilteredTriangle(const std::array<Vec3, 3>& points, const std::array<int, 3>& ids)
+    : p(points), id(ids), normal((points[1] - points[0]).cross(points[2] - points[0])), length(normal.norm()) {}
+
+bool triangles_intersect_improperly(const FilteredTriangle& a, const FilteredTriangle& b, double scale) {
+  if (separated_by_a_plane(a.p, a.id, a.normal, a.length, b.p, b.id, b.normal, b.length, scale) >= 0) return false;
+  return intersect_improperly_after_the_plane_filter(a.p, a.id, b.p, b.id);
+}
 
 }  // namespace gdm
