@@ -64,9 +64,9 @@ void FaceGrid::remove_from_cells(int face) {
   for (int x = a[0]; x <= b[0]; ++x)
     for (int y = a[1]; y <= b[1]; ++y)
       for (int z = a[2]; z <= b[2]; ++z) {
-        const auto it = cells_.find(key(x, y, z));
-        if (it == cells_.end()) continue;
-        auto& list = it->second;
+        std::vector<int>* cell = cells_.find(key(x, y, z));
+        if (!cell) continue;
+        auto& list = *cell;
         for (std::size_t i = 0; i < list.size();)
           if (list[i] == face) {
             list[i] = list.back();
@@ -89,7 +89,7 @@ void FaceGrid::reregister(int face, const Vec3& lo, const Vec3& hi) {
 void FaceGrid::reset(double cell_size, double margin) {
   cell_size_ = cell_size;
   margin_ = margin;
-  for (auto& [k, list] : cells_) list.clear();  // keeps the cells' storage for the next rebuild
+  cells_.clear_lists();  // keeps the cells' storage for the next rebuild
   stamp_.clear();
   box_lo_.clear();
   box_hi_.clear();

@@ -6,9 +6,9 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
-#include <unordered_map>
 #include <vector>
 
+#include "gdm/cell_lists.h"
 #include "gdm/mesh.h"
 
 namespace gdm {
@@ -77,7 +77,7 @@ class FaceGrid {
 
   double cell_size_ = 1.0;
   double margin_ = 0.0;
-  std::unordered_map<Key, std::vector<int>> cells_;
+  CellLists cells_;
   std::vector<Vec3> box_lo_, box_hi_;  // per face: union of its registered (inflated) boxes
   // Per face: a box listed in every cell it touches, whose content refresh()
   // may leave in place (empty after a second insert_box: refresh re-registers).
@@ -93,9 +93,9 @@ inline bool FaceGrid::scan_cells(const Vec3& lo, const Vec3& hi, Scan&& scan) co
   for (int x = a[0]; x <= b[0]; ++x)
     for (int y = a[1]; y <= b[1]; ++y)
       for (int z = a[2]; z <= b[2]; ++z) {
-        const auto it = cells_.find(key(x, y, z));
-        if (it == cells_.end()) continue;
-        for (int f : it->second)
+        const std::vector<int>* list = cells_.find(key(x, y, z));
+        if (!list) continue;
+        for (int f : *list)
           if (scan(f)) return true;
       }
   return false;
