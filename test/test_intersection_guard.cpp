@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "gdm/intersection_guard.h"
+#include "gdm/mesh_checks.h"
 #include "gdm/predicates.h"
 #include "gdm/seed.h"
 
@@ -278,4 +279,71 @@ TEST(IntersectionGuard, decisions_stay_exact_across_prepare_moves_with_moves_and
   EXPECT_GT(accepted, 300);
   EXPECT_GT(rejected, 50);
   EXPECT_GT(flips, 10);
+}
+
+namespace {
+
+// Every face keeps its orientation and at least kMinArea against `before`.
+bool faces_keep_shape(const Mesh& before, const Mesh& after) {
+  std::array<int, 3> ids{};
+  for (auto f : after.faces()) {
+    const auto a = corners(before, f, Mesh::VertexHandle(), Vec3::Zero(), ids);
+    const auto b = corners(after, f, Mesh::VertexHandle(), Vec3::Zero(), ids);
+    const Vec3 na = (a[1] - a[0]).cross(a[2] - a[0]), nb = (b[1] - b[0]).cross(b[2] - b[0]);
+    if (0.5 * nb.norm() < kMinArea || nb.dot(na) <= 0.0) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+// apply_moves(): all moves of a round at once, checked in parallel. Random
+// moves of every vertex within the margin, on two close sheets (which the
+// moves push into each other) and on a sphere: the mesh after the round has no
+// improper intersection and no face turned over or flattened, many moves stay
+// and some go back, and the outcome is the same for one thread and for two.
+TEST(IntersectionGuard, moves_applied_at_once_leave_a_valid_mesh_the_same_for_any_thread_count) {
+  std::vector<std::pair<const char*, Mesh>> cases;
+  {
+    Mesh sheets;
+    add_sheet(sheets, 16, 0.0, 0.0);
+    add_sheet(sheets, 16, 0.3, 0.4);
+    cases.emplace_back("two sheets", std::move(sheets));
+  }
+  cases.emplace_back("sphere", make_geodesic_sphere(Vec3(1, 2, 3), 2.0, 3));
+  for (auto& [name, start] : cases) {
+    ASSERT_EQ(self_intersecting_pairs(start, 1), 0u) << name;
+    const double margin = 0.4;
+    std::mt19937 rng(4242);
+    std::normal_distribution<double> gauss(0.0, 1.0);
+    std::uniform_real_distribution<double> length(0.0, margin);
+    std::vector<IntersectionGuard::Move> moves;
+    for (auto v : start.vertices())
+      moves.push_back({v.idx(), to_eigen(start.point(v)) +
+                                    length(rng) * Vec3(gauss(rng), gauss(rng), gauss(rng)).normalized()});
+    std::vector<std::vector<char>> kept;
+    std::vector<Mesh> results;
+    for (int threads : {1, 2}) {
+      Mesh mesh = start;
+      IntersectionGuard guard(mesh, margin, kMinArea);
+      std::vector<int> blocking;
+      kept.push_back(guard.apply_moves(mesh, moves, threads, false, &blocking));
+      const auto& k = kept.back();
+      std::size_t stayed = 0;
+      for (std::size_t i = 0; i < moves.size(); ++i) {
+        const Vec3 p = to_eigen(mesh.point(Mesh::VertexHandle(moves[i].vertex)));
+        EXPECT_EQ(p, k[i] ? moves[i].to : to_eigen(start.point(Mesh::VertexHandle(moves[i].vertex))))
+            << name << ", move " << i;
+        if (!k[i] && blocking[i] >= 0) EXPECT_LT(blocking[i], static_cast<int>(mesh.n_faces()));
+        stayed += k[i] ? 1 : 0;
+      }
+      EXPECT_EQ(self_intersecting_pairs(mesh, 1), 0u) << name << ", " << threads << " thread(s)";
+      EXPECT_TRUE(faces_keep_shape(start, mesh)) << name;
+      EXPECT_GT(stayed, moves.size() / 4) << name;
+      EXPECT_LT(stayed, moves.size()) << name;
+      EXPECT_EQ(guard.statistics().rejected_moves, moves.size() - stayed) << name;
+      results.push_back(std::move(mesh));
+    }
+    EXPECT_EQ(kept[0], kept[1]) << name;
+  }
 }

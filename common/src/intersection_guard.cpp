@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "gdm/parallel.h"
 #include "gdm/predicates.h"
 
 namespace gdm {
@@ -160,6 +161,172 @@ bool IntersectionGuard::move_is_safe(Mesh::VertexHandle v, const Vec3& p, int hi
   else if (moved_vertices_.size() <= mesh_->n_faces())  // beyond: prepare_moves() looks at every face
     moved_vertices_.push_back(v.idx());
   return clear;
+}
+
+int IntersectionGuard::bad_partner(int face, std::vector<std::uint32_t>& stamps, std::uint32_t stamp) const {
+  const Triangle t = face_triangle(face, -1, Vec3::Zero());
+  const Vec3 n = (t.p[1] - t.p[0]).cross(t.p[2] - t.p[0]);
+  if (0.5 * n.norm() < min_face_area_ || n.dot(start_normal_[static_cast<std::size_t>(face)]) <= 0.0) return -2;
+  const Vec3 lo = t.p[0].cwiseMin(t.p[1]).cwiseMin(t.p[2]);
+  const Vec3 hi = t.p[0].cwiseMax(t.p[1]).cwiseMax(t.p[2]);
+  FilteredTriangle mine;
+  bool built = false;
+  int partner = -1;
+  grid_.any_near_once(lo, hi, stamps, stamp, [&](int g) {
+    if (g == face || (g < face && in_check_[static_cast<std::size_t>(g)])) return false;
+    const Triangle other = face_triangle(g, -1, Vec3::Zero());
+    const Vec3 olo = other.p[0].cwiseMin(other.p[1]).cwiseMin(other.p[2]);
+    const Vec3 ohi = other.p[0].cwiseMax(other.p[1]).cwiseMax(other.p[2]);
+    if ((olo.array() > hi.array()).any() || (ohi.array() < lo.array()).any()) return false;
+    if (!built) {
+      mine = FilteredTriangle(t.p, t.id);
+      built = true;
+    }
+    const double scale = (ohi.cwiseMax(hi) - olo.cwiseMin(lo)).maxCoeff();
+    if (!triangles_intersect_improperly(mine, FilteredTriangle(other.p, other.id), scale)) return false;
+    partner = g;
+    return true;
+  });
+  return partner;
+}
+
+std::vector<char> IntersectionGuard::apply_moves(Mesh& mesh, const std::vector<Move>& moves, int threads,
+                                                 bool register_boxes, std::vector<int>* blocking) {
+  std::vector<char> kept(moves.size(), 1);
+  if (blocking) blocking->assign(moves.size(), -1);
+  if (moves.empty()) return kept;
+  move_of_.resize(mesh.n_vertices(), -1);
+  in_check_.resize(mesh.n_faces(), 0);
+  start_normal_.resize(mesh.n_faces(), Vec3::Zero());
+  normal_known_.resize(mesh.n_faces(), 0);
+
+  // The faces around the moved vertices, with their normals before the moves.
+  std::vector<Vec3> start(moves.size());
+  std::vector<int> check;
+  for (std::size_t k = 0; k < moves.size(); ++k) {
+    const Mesh::VertexHandle v(moves[k].vertex);
+    move_of_[static_cast<std::size_t>(v.idx())] = static_cast<int>(k);
+    start[k] = to_eigen(mesh.point(v));
+    for (auto f : mesh.vf_range(v)) check.push_back(f.idx());
+  }
+  std::sort(check.begin(), check.end());
+  check.erase(std::unique(check.begin(), check.end()), check.end());
+  // Every face whose shape the moves change is among these; a face that
+  // joins a later round for the face it cuts has its first shape still.
+  std::vector<int> known;
+  const auto note_start_normal = [&](int f) {
+    if (normal_known_[static_cast<std::size_t>(f)]) return;
+    const Triangle t = face_triangle(f, -1, Vec3::Zero());
+    start_normal_[static_cast<std::size_t>(f)] = (t.p[1] - t.p[0]).cross(t.p[2] - t.p[0]);
+    normal_known_[static_cast<std::size_t>(f)] = 1;
+    known.push_back(f);
+  };
+  for (int f : check) note_start_normal(f);
+  for (const Move& m : moves) mesh.set_point(Mesh::VertexHandle(m.vertex), to_point(m.to));
+  if (register_boxes)
+    for (int f : check) grid_.insert(mesh, Mesh::FaceHandle(f));
+
+  // The move of a face's highest-index vertex still moved, -1 if none.
+  const auto last_move_of = [&](int face) {
+    int best = -1;
+    for (auto w : mesh.fv_range(Mesh::FaceHandle(face))) {
+      const int k = move_of_[static_cast<std::size_t>(w.idx())];
+      if (k >= 0 && kept[static_cast<std::size_t>(k)] &&
+          (best < 0 || moves[static_cast<std::size_t>(best)].vertex < w.idx()))
+        best = k;
+    }
+    return best;
+  };
+  std::vector<int> partner;
+  std::vector<int> undo;
+  while (!check.empty()) {
+    for (int f : check) {
+      note_start_normal(f);
+      in_check_[static_cast<std::size_t>(f)] = 1;
+    }
+    partner.assign(check.size(), -1);
+    worker_stamps_.resize(static_cast<std::size_t>(std::max(1, threads)));
+    parallel_chunks(check.size(), threads, [&](std::size_t begin, std::size_t end, std::size_t worker) {
+      WorkerStamps& w = worker_stamps_[worker];
+      for (std::size_t i = begin; i < end; ++i) {
+        if (++w.last == 0) {
+          std::fill(w.marks.begin(), w.marks.end(), 0);
+          w.last = 1;
+        }
+        partner[i] = bad_partner(check[i], w.marks, w.last);
+      }
+    });
+    for (int f : check) in_check_[static_cast<std::size_t>(f)] = 0;
+    // Each bad face gives back one move: its own highest-index one, or, when
+    // the face it cuts has a higher one, that face's. The lowest such moves
+    // go first, and a bad face one of whose moves already goes back this
+    // round waits for the next check (that may have mended it): as in a pass
+    // in vertex order, a move is refused only beside moves that stand.
+    struct Cause {
+      int vertex;    // of the move to give back
+      int move;      // its index in `moves`
+      int cut;       // the face it would cut (-1: its own faces)
+      std::size_t i;  // the bad face's index in `check`
+    };
+    std::vector<Cause> causes;
+    std::vector<int> next;
+    for (std::size_t i = 0; i < check.size(); ++i) {
+      if (partner[i] == -1) continue;
+      int k = last_move_of(check[i]);
+      int cut = partner[i];
+      if (partner[i] >= 0) {
+        const int j = last_move_of(partner[i]);
+        if (j >= 0 && (k < 0 || moves[static_cast<std::size_t>(j)].vertex > moves[static_cast<std::size_t>(k)].vertex)) {
+          k = j;
+          cut = check[i];
+        }
+        next.push_back(partner[i]);
+      }
+      next.push_back(check[i]);
+      if (k >= 0) causes.push_back({moves[static_cast<std::size_t>(k)].vertex, k, std::max(-1, cut), i});
+      // k < 0: both faces as before the moves, not the moves' doing
+    }
+    std::sort(causes.begin(), causes.end(), [](const Cause& a, const Cause& b) {
+      return a.vertex != b.vertex ? a.vertex < b.vertex : a.i < b.i;
+    });
+    undo.clear();
+    const auto going_back = [&](int face) {
+      if (face < 0) return false;
+      for (auto w : mesh.fv_range(Mesh::FaceHandle(face))) {
+        const int k = move_of_[static_cast<std::size_t>(w.idx())];
+        if (k >= 0 && giving_back_[static_cast<std::size_t>(k)]) return true;
+      }
+      return false;
+    };
+    giving_back_.assign(moves.size(), 0);
+    for (const Cause& c : causes) {
+      if (giving_back_[static_cast<std::size_t>(c.move)] || going_back(check[c.i]) ||
+          going_back(partner[c.i] >= 0 ? partner[c.i] : -1))
+        continue;
+      giving_back_[static_cast<std::size_t>(c.move)] = 1;
+      undo.push_back(c.move);
+      if (blocking) (*blocking)[static_cast<std::size_t>(c.move)] = c.cut;
+    }
+    if (undo.empty()) break;
+    for (int k : undo) {
+      const Mesh::VertexHandle v(moves[static_cast<std::size_t>(k)].vertex);
+      kept[static_cast<std::size_t>(k)] = 0;
+      mesh.set_point(v, to_point(start[static_cast<std::size_t>(k)]));
+      for (auto f : mesh.vf_range(v)) next.push_back(f.idx());
+    }
+    std::sort(next.begin(), next.end());
+    next.erase(std::unique(next.begin(), next.end()), next.end());
+    check.swap(next);
+  }
+  for (int f : known) normal_known_[static_cast<std::size_t>(f)] = 0;
+  for (std::size_t k = 0; k < moves.size(); ++k) {
+    move_of_[static_cast<std::size_t>(moves[k].vertex)] = -1;
+    if (!kept[k])
+      ++stats_.rejected_moves;
+    else if (moved_vertices_.size() <= mesh.n_faces())
+      moved_vertices_.push_back(moves[k].vertex);
+  }
+  return kept;
 }
 
 bool IntersectionGuard::flip_is_safe(Mesh::EdgeHandle e, const Mesh::VertexHandle (&q)[4]) {

@@ -513,7 +513,7 @@ WrapResult shrink_wrap(const std::vector<Triangle>& input, const WrapOptions& w,
     std::size_t free = 0;
     const std::size_t moves = fair_unsupported(mesh, field, offset, w.cell_size, obstacle, 30, &free);
     if (moves > 0) {
-      const FloatSnapResult snap = snap_to_float(mesh);
+      const FloatSnapResult snap = snap_to_float(mesh, w.threads);
       double faired = 0.0;
       far_input(input, mesh, refine_beyond, &faired);
       if (faired > input_to_wrap && faired > aim) {
@@ -550,7 +550,7 @@ WrapResult shrink_wrap(const std::vector<Triangle>& input, const WrapOptions& w,
     out.deform.quality_moves = r.moves;
     out.deform.faces_below_min_angle = r.faces_below;
     if (r.flips + r.splits + r.collapses + r.moves > 0) {
-      const FloatSnapResult snap = snap_to_float(mesh);
+      const FloatSnapResult snap = snap_to_float(mesh, w.threads);
       far_input(input, mesh, refine_beyond, &input_to_wrap);
       log->push_back("triangle quality: " + std::to_string(r.flips) + " flips, " + std::to_string(r.splits) +
                      " splits, " + std::to_string(r.collapses) + " collapses, " + std::to_string(r.moves) +

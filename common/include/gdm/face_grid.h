@@ -56,6 +56,19 @@ class FaceGrid {
   template <class Test>
   bool any_near(const Vec3& lo, const Vec3& hi, Test&& test) const;
 
+  // any_near() visiting each face once, marked in the caller's `stamps`
+  // (one array per thread: the grid is not touched) with a value new to them.
+  template <class Test>
+  bool any_near_once(const Vec3& lo, const Vec3& hi, std::vector<std::uint32_t>& stamps, std::uint32_t stamp,
+                     Test&& test) const {
+    if (stamps.size() < box_lo_.size()) stamps.resize(box_lo_.size(), 0);
+    return scan_cells(lo, hi, [&](int f) {
+      if (stamps[static_cast<std::size_t>(f)] == stamp) return false;
+      stamps[static_cast<std::size_t>(f)] = stamp;
+      return box_meets(f, lo, hi) && test(f);
+    });
+  }
+
   double cell_size() const { return cell_size_; }
   std::size_t cell_count() const { return cells_.size(); }
 

@@ -21,7 +21,9 @@ struct FloatSnapResult {
 // float cell around it; keeps the first one the guard accepts. The mesh must be
 // free of self-intersections on entry; it stays so. `refused` is 0 in practice;
 // when not, those vertices still round (unchecked) when stored as float.
-FloatSnapResult snap_to_float(Mesh& mesh);
+// `threads`: for the guard's checks (0 = all hardware threads); the result is
+// the same for any count.
+FloatSnapResult snap_to_float(Mesh& mesh, int threads = 1);
 
 // x rounded to the nearest float, as a double. Use this, not an element-wise
 // `p[i] = static_cast<float>(p[i])` loop: GCC 12.2 at -O2 vectorises such a

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <utility>
 #include <vector>
 
@@ -45,6 +46,28 @@ class IntersectionGuard {
   // tested first; the answer does not depend on it.
   bool move_is_safe(Mesh::VertexHandle v, const Vec3& p, int hint = -1);
 
+  // Many moves at once (issue 17: the guard's one-at-a-time checks were the
+  // sequential quarter of a run). Every vertex of `moves` (each listed once)
+  // is moved to its target; then the faces around them are checked, in
+  // parallel, for what move_is_safe checks: a face degenerate or turned over
+  // against its orientation before the moves, or cutting another face
+  // improperly. For each face found bad, the move of its highest-index moved
+  // vertex (or of the face it cuts) is taken back, and the faces those moves
+  // touch are checked again, until none is bad: lower indices keep their
+  // moves, as in a pass in vertex order. Returns per move whether it stayed;
+  // `blocking`, if given, gets per move the face that made it go back (-1:
+  // none, or its own faces). Each decision depends on positions only, never
+  // on the thread count. `mesh` is the guarded mesh. With `register_boxes`,
+  // the moved faces' new boxes are registered first (for a guard whose margin
+  // does not cover the moves, like note_face()); otherwise every move must
+  // stay within the margin, as for move_is_safe().
+  struct Move {
+    int vertex;
+    Vec3 to;
+  };
+  std::vector<char> apply_moves(Mesh& mesh, const std::vector<Move>& moves, int threads, bool register_boxes,
+                                std::vector<int>* blocking = nullptr);
+
   // Would the flip creating (q0, q1, q3) and (q2, q3, q1) from the faces
   // around edge e keep the mesh free of intersections?
   bool flip_is_safe(Mesh::EdgeHandle e, const Mesh::VertexHandle (&quad)[4]);
@@ -77,6 +100,25 @@ class IntersectionGuard {
   std::vector<int> moved_vertices_;
   std::vector<int> flipped_faces_;
   std::vector<int> changed_faces_;  // prepare_moves()'s scratch
+  // apply_moves()'s scratch, per vertex and per face (kept: a deformation
+  // cycle calls it with few moves on a large mesh).
+  std::vector<int> move_of_;       // per vertex: its index in the moves, -1 if none
+  std::vector<char> in_check_;     // per face: in this round's check
+  std::vector<Vec3> start_normal_;  // per face checked: its normal before the moves
+  std::vector<char> normal_known_;  // per face: start_normal_ set in this call
+  std::vector<char> giving_back_;   // per move: taken back in this round
+  // What is wrong with a face after apply_moves() moved its vertices: -1
+  // nothing, -2 its own shape (degenerate, or turned over), else the first
+  // face it cuts (faces in this round's check with a lower index are left
+  // to their own check: each pair once).
+  // `stamps`, `stamp`: the calling thread's marks for the grid's query.
+  int bad_partner(int face, std::vector<std::uint32_t>& stamps, std::uint32_t stamp) const;
+  struct WorkerStamps {
+    std::vector<std::uint32_t> marks;
+    std::uint32_t last = 0;
+  };
+  std::vector<WorkerStamps> worker_stamps_;
+
   // move_is_safe's scratch, kept to spare an allocation per call.
   std::vector<int> ring_faces_;
   std::vector<FilteredTriangle> fan_;

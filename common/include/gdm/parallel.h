@@ -39,4 +39,24 @@ void parallel_for(std::size_t n, int threads, Body&& body) {
   for (auto& t : pool) t.join();
 }
 
+// Calls body(begin, end, worker) for up to `threads` contiguous chunks of
+// [0, n), worker numbering them from 0: for loops whose iterations share a
+// per-thread scratch. What each index computes must not depend on the chunk.
+template <class Body>
+void parallel_chunks(std::size_t n, int threads, Body&& body) {
+  const std::size_t workers = std::min<std::size_t>(static_cast<std::size_t>(std::max(1, threads)),
+                                                    (n + 255) / 256);
+  if (workers <= 1) {
+    body(std::size_t{0}, n, std::size_t{0});
+    return;
+  }
+  std::vector<std::thread> pool;
+  pool.reserve(workers - 1);
+  const std::size_t chunk = (n + workers - 1) / workers;
+  for (std::size_t w = 1; w < workers; ++w)
+    pool.emplace_back([&, w] { body(std::min(n, w * chunk), std::min(n, (w + 1) * chunk), w); });
+  body(std::size_t{0}, std::min(n, chunk), std::size_t{0});
+  for (auto& t : pool) t.join();
+}
+
 }  // namespace gdm
