@@ -1562,7 +1562,7 @@ DeformResult Deformer::run(int first_cycle) {
     settle_budget(result);
     clock.add_to(result.seconds.quality);
   }
-  if (o_.float_exact_output && result.reason != StopReason::cancelled) result.float_refused = snap_to_float(mesh_).refused;
+  if (o_.float_exact_output && result.reason != StopReason::cancelled) result.float_refused = snap_to_float(mesh_, threads_).refused;
   clock.add_to(result.seconds.float_snap);
   result.cycles = cycle;
   result.global_refinements = report_.stage;

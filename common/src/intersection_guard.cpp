@@ -239,7 +239,6 @@ std::vector<char> IntersectionGuard::apply_moves(Mesh& mesh, const std::vector<M
   };
   std::vector<int> partner;
   std::vector<int> undo;
-  std::vector<int> halved(moves.size(), 0);  // per move: halvings made
   while (!check.empty()) {
     for (int f : check) {
       note_start_normal(f);
@@ -312,16 +311,8 @@ std::vector<char> IntersectionGuard::apply_moves(Mesh& mesh, const std::vector<M
     for (int k : undo) {
       const auto m = static_cast<std::size_t>(k);
       const Mesh::VertexHandle v(moves[m].vertex);
-      if (halved[m] < moves[m].halvings) {
-        ++halved[m];
-        mesh.set_point(v, to_point(start[m] + (moves[m].to - start[m]) * std::ldexp(1.0, -halved[m])));
-        if (register_boxes)
-          for (auto f : mesh.vf_range(v)) grid_.insert(mesh, f);
-        if (blocking) (*blocking)[m] = -1;
-      } else {
-        kept[m] = 0;
-        mesh.set_point(v, to_point(start[m]));
-      }
+      kept[m] = 0;
+      mesh.set_point(v, to_point(start[m]));
       for (auto f : mesh.vf_range(v)) next.push_back(f.idx());
     }
     std::sort(next.begin(), next.end());
@@ -332,34 +323,33 @@ std::vector<char> IntersectionGuard::apply_moves(Mesh& mesh, const std::vector<M
   // themselves, or at a lower priority than needed, may stand alone where
   // the others ended: each tries again, one at a time, in the order given
   // (the sequential pass for the conflicts only). A quarter to a third of
-  // the moves sent back stood so on the tooth pulp's level of detail.
+  // the moves sent back stood so in the sub-voxel fit of the tooth pulp's
+  // level of detail (measured with the fit on this batch, not kept).
   const std::size_t rejected_before = stats_.rejected_moves;
   for (std::size_t k = 0; k < moves.size(); ++k) {
     if (kept[k]) continue;
     const Mesh::VertexHandle v(moves[k].vertex);
-    for (int h = 0; h <= moves[k].halvings && !kept[k]; ++h) {
-      const Vec3 q = start[k] + (moves[k].to - start[k]) * std::ldexp(1.0, -h);
-      if (!move_is_safe(v, q)) {
-        if (blocking) (*blocking)[k] = last_blocking_face_;
-        continue;
-      }
-      // move_is_safe compares with the faces as they are now; the batch's
-      // promise is against the faces before the call: no face turned over.
-      bool turned = false;
-      for (auto f : mesh.vf_range(v)) {
-        const Triangle t = face_triangle(f.idx(), v.idx(), q);
-        turned = turned || (t.p[1] - t.p[0]).cross(t.p[2] - t.p[0]).dot(start_normal_[static_cast<std::size_t>(f.idx())]) <= 0.0;
-      }
-      if (turned) {
-        if (blocking) (*blocking)[k] = -1;
-        continue;
-      }
-      mesh.set_point(v, to_point(q));
-      kept[k] = 1;
-      if (blocking) (*blocking)[k] = -1;
-      if (register_boxes)
-        for (auto f : mesh.vf_range(v)) grid_.insert(mesh, f);
+    const Vec3& q = moves[k].to;
+    if (!move_is_safe(v, q)) {
+      if (blocking) (*blocking)[k] = last_blocking_face_;
+      continue;
     }
+    // move_is_safe compares with the faces as they are now; the batch's
+    // promise is against the faces before the call: no face turned over.
+    bool turned = false;
+    for (auto f : mesh.vf_range(v)) {
+      const Triangle t = face_triangle(f.idx(), v.idx(), q);
+      turned = turned || (t.p[1] - t.p[0]).cross(t.p[2] - t.p[0]).dot(start_normal_[static_cast<std::size_t>(f.idx())]) <= 0.0;
+    }
+    if (turned) {
+      if (blocking) (*blocking)[k] = -1;
+      continue;
+    }
+    mesh.set_point(v, to_point(q));
+    kept[k] = 1;
+    if (blocking) (*blocking)[k] = -1;
+    if (register_boxes)
+      for (auto f : mesh.vf_range(v)) grid_.insert(mesh, f);
   }
   stats_.rejected_moves = rejected_before;
   for (int f : known) normal_known_[static_cast<std::size_t>(f)] = 0;

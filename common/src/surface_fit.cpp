@@ -392,8 +392,8 @@ FitResult fit_to_threshold(Mesh& mesh, const Volume& volume, double threshold, c
         ++count;
       }
     result.last_pass_rms = count ? std::sqrt(sum2 / static_cast<double>(count)) : 0.0;
-    // 3. The moves, checked by the guard. Every accepted move registers
-    //    the faces' new boxes, so the grid covers
+    // 3. The moves, in vertex order, each checked by the guard. Every
+    //    accepted move registers the faces' new boxes, so the grid covers
     //    the current faces without a margin for the travel: a small margin
     //    keeps the candidate lists short.
     //    One guard for all passes, its grid refreshed between them: only
@@ -406,13 +406,7 @@ FitResult fit_to_threshold(Mesh& mesh, const Volume& volume, double threshold, c
       else
         guard = std::make_unique<IntersectionGuard>(mesh, 0.05 * voxel, 1e-6 * voxel * voxel);
     }
-    //    All moves at once, checked in parallel by apply_moves(); a move
-    //    sent back is tried again at half and a quarter of its length
-    //    before the moves of higher-index vertices (issue 17: one guard
-    //    check at a time was most of the fit on the large scans).
     std::fill(moved.begin(), moved.end(), 0);
-    std::vector<IntersectionGuard::Move> wanted;  // each vertex's full move
-    std::vector<Vec3> from;                       // and where it stood
     for (auto v : mesh.vertices()) {
       if (!has[v.idx()] || !active[v.idx()]) continue;
       const Vec3 p = pos(mesh, v);
@@ -423,36 +417,22 @@ FitResult fit_to_threshold(Mesh& mesh, const Volume& volume, double threshold, c
           vi < o.vertex_max_distance.size() && o.vertex_max_distance[vi] > 0.0 ? o.vertex_max_distance[vi] : max_move;
       if ((target - anchor).norm() > bound) target = anchor + (target - anchor).normalized() * bound;
       if ((target - p).norm() < still) continue;  // already there: spare the guard
-      wanted.push_back({v.idx(), target});
-      from.push_back(p);
-    }
-    //    Each move at full length, else at half, else at a quarter (the
-    //    first of them inside the grid: vertices stay inside it).
-    std::vector<IntersectionGuard::Move> moves;
-    std::vector<std::size_t> which;
-    for (std::size_t k = 0; k < wanted.size(); ++k) {
-      for (int attempt = 0; attempt < 3; ++attempt) {
-        const Vec3 q = from[k] + (wanted[k].to - from[k]) * std::ldexp(1.0, -attempt);
-        if (!volume.contains(q)) continue;
-        moves.push_back({wanted[k].vertex, q, 2 - attempt});
-        which.push_back(k);
-        break;
+      bool accepted = false;
+      for (int attempt = 0; attempt < 3 && !accepted; ++attempt) {
+        const Vec3 q = p + (target - p) * std::ldexp(1.0, -attempt);
+        if (!volume.contains(q)) continue;  // vertices stay inside the grid
+        if (!guard || guard->move_is_safe(v, q)) {
+          mesh.set_point(v, to_point(q));
+          moved[v.idx()] = (q - p).norm() > still;
+          if (guard)
+            for (auto f : mesh.vf_range(v)) guard->note_face(f);
+          accepted = true;
+        }
       }
-    }
-    result.rejected += wanted.size() - moves.size();
-    std::vector<char> kept(moves.size(), 1);
-    if (guard)
-      kept = guard->apply_moves(mesh, moves, threads, true);
-    else
-      for (const auto& m : moves) mesh.set_point(Mesh::VertexHandle(m.vertex), to_point(m.to));
-    for (std::size_t j = 0; j < moves.size(); ++j) {
-      const auto vi = static_cast<std::size_t>(moves[j].vertex);
-      if (!kept[j]) {
+      if (accepted)
+        ++result.moves;
+      else
         ++result.rejected;
-        continue;
-      }
-      ++result.moves;
-      moved[vi] = (pos(mesh, Mesh::VertexHandle(moves[j].vertex)) - from[which[j]]).norm() > still;
     }
     if (std::find(moved.begin(), moved.end(), 1) == moved.end()) break;  // a fixed point: nothing left to do
     for (auto v : mesh.vertices()) {

@@ -54,22 +54,18 @@ class IntersectionGuard {
   // improperly. For each face found bad, the move of its highest-index moved
   // vertex (or of the face it cuts) is taken back, and the faces those moves
   // touch are checked again, until none is bad: lower indices keep their
-  // moves, as in a pass in vertex order. Returns per move whether it stayed
-  // (at full length or at one of its halvings: the vertex's position tells);
+  // moves, as in a pass in vertex order. Moves still sent back then try
+  // once more alone, in order, against where the others ended. Returns per
+  // move whether it stayed;
   // `blocking`, if given, gets per move the face that made it go back (-1:
   // none, or its own faces). Each decision depends on positions only, never
   // on the thread count. `mesh` is the guarded mesh. With `register_boxes`,
   // the moved faces' new boxes are registered first (for a guard whose margin
   // does not cover the moves, like note_face()); otherwise every move must
   // stay within the margin, as for move_is_safe().
-  // A move sent back with halvings left is tried next at half its length
-  // (then a quarter, ...) from where the vertex stood, still before the
-  // moves of higher-index vertices, as a pass in vertex order tries the
-  // shorter moves of a vertex before it goes on to the next.
   struct Move {
     int vertex;
     Vec3 to;
-    int halvings = 0;
   };
   std::vector<char> apply_moves(Mesh& mesh, const std::vector<Move>& moves, int threads, bool register_boxes,
                                 std::vector<int>* blocking = nullptr);
