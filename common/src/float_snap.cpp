@@ -52,70 +52,52 @@ FloatSnapResult snap_to_float(Mesh& mesh, int threads) {
   // Corner 0 of each vertex's float cell is the nearest float point; the
   // rest are tried in order of their index by the vertices the guard sent
   // back, all vertices of a round at once (apply_moves(): checked in
-  // parallel, the outcome independent of the thread count).
+  // parallel, a move sent back tried once more alone; the outcome does not
+  // depend on the thread count).
   struct Pending {
     int vertex;
     Vec3 from;
     int corner;
   };
+  const auto corner_point = [](const Vec3& p, int corner) {
+    const auto bx = float_bracket(p.x()), by = float_bracket(p.y()), bz = float_bracket(p.z());
+    return Vec3(bx[corner & 1], by[(corner >> 1) & 1], bz[(corner >> 2) & 1]);
+  };
+  // The next corner from w.corner on that is a point of its own (a
+  // coordinate already a float has one value for both of its corners).
+  const auto next_corner = [&](Pending& w) {
+    const Vec3 nearest = corner_point(w.from, 0);
+    while (w.corner > 0 && w.corner < 8 && corner_point(w.from, w.corner) == nearest) ++w.corner;
+    return w.corner < 8;
+  };
   std::vector<Pending> pending;
   for (auto v : mesh.vertices()) {
     const Vec3 p = to_eigen(mesh.point(v));
-    if (round_to_float(p) == p) {
+    if (round_to_float(p) == p)
       ++result.snapped;
-      continue;
-    }
-    pending.push_back({v.idx(), p, 0});
+    else
+      pending.push_back({v.idx(), p, 0});
   }
   std::vector<IntersectionGuard::Move> round;
-  std::vector<Pending> refused;
   while (!pending.empty()) {
     round.clear();
+    for (const Pending& w : pending) round.push_back({w.vertex, corner_point(w.from, w.corner)});
+    const std::vector<char> kept = guard.apply_moves(mesh, round, threads, false);
     std::vector<Pending> next;
-    for (Pending& w : pending) {
-      const auto bx = float_bracket(w.from.x()), by = float_bracket(w.from.y()), bz = float_bracket(w.from.z());
-      const Vec3 nearest(bx[0], by[0], bz[0]);
-      Vec3 q = nearest;
-      for (; w.corner < 8; ++w.corner) {
-        q = Vec3(bx[w.corner & 1], by[(w.corner >> 1) & 1], bz[(w.corner >> 2) & 1]);
-        if (w.corner == 0 || q != nearest) break;
-      }
-      if (w.corner == 8) {
-        refused.push_back(w);
+    for (std::size_t k = 0; k < round.size(); ++k) {
+      Pending w = pending[k];
+      if (kept[k]) {
+        result.largest_move = std::max(result.largest_move, (round[k].to - w.from).norm());
+        ++result.snapped;
         continue;
       }
-      round.push_back({w.vertex, q});
-      next.push_back(w);
+      ++w.corner;
+      if (next_corner(w))
+        next.push_back(w);
+      else
+        ++result.refused;
     }
-    const std::vector<char> kept = guard.apply_moves(mesh, round, threads, false);
-    pending.clear();
-    for (std::size_t k = 0; k < round.size(); ++k) {
-      if (kept[k]) {
-        result.largest_move = std::max(result.largest_move, (round[k].to - next[k].from).norm());
-        ++result.snapped;
-      } else {
-        ++next[k].corner;
-        pending.push_back(next[k]);
-      }
-    }
-  }
-  // A vertex every corner of whose cell was sent back, each time beside
-  // other moves of its round, tries them all once more alone, against the
-  // final places of the others (the one-at-a-time check, as before batches).
-  for (const Pending& w : refused) {
-    const Mesh::VertexHandle v(w.vertex);
-    const auto bx = float_bracket(w.from.x()), by = float_bracket(w.from.y()), bz = float_bracket(w.from.z());
-    bool done = false;
-    for (int corner = 0; corner < 8 && !done; ++corner) {
-      const Vec3 q(bx[corner & 1], by[(corner >> 1) & 1], bz[(corner >> 2) & 1]);
-      if (corner > 0 && q == Vec3(bx[0], by[0], bz[0])) continue;
-      if (guard.move_is_safe(v, q)) {
-        result.largest_move = std::max(result.largest_move, (q - w.from).norm());
-        mesh.set_point(v, to_point(q));
-        done = true;
-      }
-    }
-    ++(done ? result.snapped : result.refused);
+    pending.swap(next);
   }
   return result;
 }

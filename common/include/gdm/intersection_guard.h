@@ -56,9 +56,8 @@ class IntersectionGuard {
   // touch are checked again, until none is bad: lower indices keep their
   // moves, as in a pass in vertex order. Moves still sent back then try
   // once more alone, in order, against where the others ended. Returns per
-  // move whether it stayed;
-  // `blocking`, if given, gets per move the face that made it go back (-1:
-  // none, or its own faces). Each decision depends on positions only, never
+  // move whether it stayed; `blocking`, if given, gets per move the face
+  // that made it go back (-1: none, or its own faces). Each decision depends on positions only, never
   // on the thread count. `mesh` is the guarded mesh. With `register_boxes`,
   // the moved faces' new boxes are registered first (for a guard whose margin
   // does not cover the moves, like note_face()); otherwise every move must
