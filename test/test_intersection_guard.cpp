@@ -327,7 +327,7 @@ TEST(IntersectionGuard, moves_applied_at_once_leave_a_valid_mesh_the_same_for_an
       Mesh mesh = start;
       IntersectionGuard guard(mesh, margin, kMinArea);
       std::vector<int> blocking;
-      kept.push_back(guard.apply_moves(mesh, moves, threads, false, &blocking));
+      kept.push_back(guard.apply_moves(mesh, moves, threads, &blocking));
       const auto& k = kept.back();
       std::size_t stayed = 0;
       for (std::size_t i = 0; i < moves.size(); ++i) {

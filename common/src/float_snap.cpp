@@ -82,7 +82,7 @@ FloatSnapResult snap_to_float(Mesh& mesh, int threads) {
   while (!pending.empty()) {
     round.clear();
     for (const Pending& w : pending) round.push_back({w.vertex, corner_point(w.from, w.corner)});
-    const std::vector<char> kept = guard.apply_moves(mesh, round, threads, false);
+    const std::vector<char> kept = guard.apply_moves(mesh, round, threads);
     std::vector<Pending> next;
     for (std::size_t k = 0; k < round.size(); ++k) {
       Pending w = pending[k];

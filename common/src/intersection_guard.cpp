@@ -191,7 +191,7 @@ int IntersectionGuard::bad_partner(int face, std::vector<std::uint32_t>& stamps,
 }
 
 std::vector<char> IntersectionGuard::apply_moves(Mesh& mesh, const std::vector<Move>& moves, int threads,
-                                                 bool register_boxes, std::vector<int>* blocking) {
+                                                 std::vector<int>* blocking) {
   std::vector<char> kept(moves.size(), 1);
   if (blocking) blocking->assign(moves.size(), -1);
   if (moves.empty()) return kept;
@@ -223,8 +223,6 @@ std::vector<char> IntersectionGuard::apply_moves(Mesh& mesh, const std::vector<M
   };
   for (int f : check) note_start_normal(f);
   for (const Move& m : moves) mesh.set_point(Mesh::VertexHandle(m.vertex), to_point(m.to));
-  if (register_boxes)
-    for (int f : check) grid_.insert(mesh, Mesh::FaceHandle(f));
 
   // The move of a face's highest-index vertex still moved, -1 if none.
   const auto last_move_of = [&](int face) {
@@ -348,8 +346,6 @@ std::vector<char> IntersectionGuard::apply_moves(Mesh& mesh, const std::vector<M
     mesh.set_point(v, to_point(q));
     kept[k] = 1;
     if (blocking) (*blocking)[k] = -1;
-    if (register_boxes)
-      for (auto f : mesh.vf_range(v)) grid_.insert(mesh, f);
   }
   stats_.rejected_moves = rejected_before;
   for (int f : known) normal_known_[static_cast<std::size_t>(f)] = 0;

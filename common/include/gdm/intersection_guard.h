@@ -58,15 +58,13 @@ class IntersectionGuard {
   // once more alone, in order, against where the others ended. Returns per
   // move whether it stayed; `blocking`, if given, gets per move the face
   // that made it go back (-1: none, or its own faces). Each decision depends on positions only, never
-  // on the thread count. `mesh` is the guarded mesh. With `register_boxes`,
-  // the moved faces' new boxes are registered first (for a guard whose margin
-  // does not cover the moves, like note_face()); otherwise every move must
-  // stay within the margin, as for move_is_safe().
+  // on the thread count. `mesh` is the guarded mesh; every move must stay
+  // within the margin, as for move_is_safe().
   struct Move {
     int vertex;
     Vec3 to;
   };
-  std::vector<char> apply_moves(Mesh& mesh, const std::vector<Move>& moves, int threads, bool register_boxes,
+  std::vector<char> apply_moves(Mesh& mesh, const std::vector<Move>& moves, int threads,
                                 std::vector<int>* blocking = nullptr);
 
   // Would the flip creating (q0, q1, q3) and (q2, q3, q1) from the faces
