@@ -262,9 +262,10 @@ std::vector<gdm::Triangle> open_box() {
 // of the vertices over them stands out of its ring (measured 1 of 162 on the
 // open sphere, 6 of 360 on the open box). Without a bridge (the default) the
 // wrap sinks through a hole much wider than its faces and the vertices the
-// field does not hold stand out like pyramids (12 of 53, 29 of 174); the
-// fairing (on by default) halves them (6, 11: the rest sit in folds where the
-// guard refuses the move).
+// field does not hold stand out like pyramids (11 of 56, 28 of 169); the
+// fairing (on by default) halves their share of the free vertices (6 of 64,
+// 11 of 168: the rest sit in folds where the guard refuses the move). Shares,
+// not counts: the runs have different numbers of free vertices.
 TEST(ShrinkWrap, no_pyramids_over_holes) {
   struct Case {
     const char* name;
@@ -292,7 +293,9 @@ TEST(ShrinkWrap, no_pyramids_over_holes) {
               << after << " of " << faired_free << " faired, " << capped << " of " << bridged_free
               << " with a bridge of 10 x the tolerance\n";
     EXPECT_GT(before, 0u) << c.name << ": no pyramids to fair (the case no longer tests anything)";
-    EXPECT_LE(2 * after, before) << c.name;
+    EXPECT_LE(2.0 * static_cast<double>(after) / static_cast<double>(faired_free),
+              static_cast<double>(before) / static_cast<double>(raw_free))
+        << c.name;
     EXPECT_LE(after, faired_free / 6) << c.name;
     EXPECT_LE(20 * capped, bridged_free) << c.name;
   }

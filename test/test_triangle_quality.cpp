@@ -237,3 +237,23 @@ TEST(TriangleQuality, tooth_pulp_against_marching_cubes) {
       }
     }
 }
+
+// CGAL's facet_angle goes up to 30 degrees; the issue asks for bounds up to
+// 25. Each phantom at 3 and 10 % noise, with the error-driven level of
+// detail at a tenth of a voxel (the largest faces, the hardest case): the
+// bound is reached everywhere (before the collapses into a point between an
+// edge's ends and the relaxation's tangential steps, the noisy ellipsoid kept
+// 2 faces below it), the guarantees hold, and the model stays within 0.02
+// voxel (mean) and 0.06 (95th percentile) of the one without the pass.
+TEST(TriangleQuality, a_25_degree_bound_is_reached_on_every_phantom) {
+  for (const double noise : {0.03, 0.10})
+    for (const Case& c : {sphere(noise), ellipsoid(noise), branching(noise), c_tube(noise)}) {
+      const Outcome off = run(c, 0.0, Setting::lod_tolerance);
+      const Outcome on = run(c, 25.0, Setting::lod_tolerance);
+      test::expect_valid_closed_surface(on.mesh);
+      EXPECT_EQ(on.result.faces_below_min_angle, 0u) << c.name << ", noise " << noise;
+      EXPECT_GE(on.min_angle, 25.0) << c.name << ", noise " << noise;
+      EXPECT_LE(on.distance.mean, off.distance.mean + 0.02) << c.name << ", noise " << noise;
+      EXPECT_LE(on.distance.p95, off.distance.p95 + 0.06) << c.name << ", noise " << noise;
+    }
+}

@@ -44,11 +44,13 @@ double triangle_min_angle(const Vec3& a, const Vec3& b, const Vec3& c);
 // the two faces; (2) caps (an angle above 120 degrees at the apex) split at
 // the foot of the apex on the long edge (the new faces lie inside the old
 // ones); (3) collapses of an edge of each face still below the bound
-// (shortest first), when no face turns by more than 45 degrees and no new
-// face falls below the bound unless the smallest angle around rises; (4)
-// tangential relaxation of the corners of faces still below the bound: a
-// vertex moves toward the centroid of its neighbours (a quarter, half or the
-// whole way), projected back onto the old faces of its ring, when that raises
+// (shortest first; into either end, else into a point between them), when
+// no face turns by more than 45 degrees and no new face falls below the
+// bound unless the smallest angle around rises; (4) tangential relaxation of
+// the corners of faces still below the bound: a vertex moves toward the
+// centroid of its neighbours (a quarter, half or the whole way), else a short
+// step (a tenth to half its shortest edge) in one of twelve tangential
+// directions, projected back onto the old faces of its ring, when that raises
 // the smallest angle around it. Flips and collapses move the surface by at
 // most max_error; faces still below the bound after the rounds get a second
 // and a third series of rounds with 2.5 and 5 times max_error. Leaves the
