@@ -92,8 +92,8 @@ bool IntersectionGuard::move_is_safe(Mesh::VertexHandle v, const Vec3& p, int hi
   for (int f : ring_faces) {
     const Triangle before = face_triangle(f, -1, p);
     const Triangle after = face_triangle(f, v.idx(), p);
-    const Vec3 n_before = (before.p[1] - before.p[0]).cross(before.p[2] - before.p[0]);
-    const Vec3 n_after = (after.p[1] - after.p[0]).cross(after.p[2] - after.p[0]);
+    const Vec3 n_before = before.normal();
+    const Vec3 n_after = after.normal();
     if (0.5 * n_after.norm() < min_face_area_ || n_after.dot(n_before) <= 0.0) {
       ++stats_.rejected_moves;
       last_blocking_face_ = -1;
@@ -165,7 +165,7 @@ bool IntersectionGuard::move_is_safe(Mesh::VertexHandle v, const Vec3& p, int hi
 
 int IntersectionGuard::bad_partner(int face, std::vector<std::uint32_t>& stamps, std::uint32_t stamp) const {
   const Triangle t = face_triangle(face, -1, Vec3::Zero());
-  const Vec3 n = (t.p[1] - t.p[0]).cross(t.p[2] - t.p[0]);
+  const Vec3 n = t.normal();
   if (0.5 * n.norm() < min_face_area_ || n.dot(start_normal_[static_cast<std::size_t>(face)]) <= 0.0) return -2;
   const Vec3 lo = t.p[0].cwiseMin(t.p[1]).cwiseMin(t.p[2]);
   const Vec3 hi = t.p[0].cwiseMax(t.p[1]).cwiseMax(t.p[2]);
@@ -217,7 +217,7 @@ std::vector<char> IntersectionGuard::apply_moves(Mesh& mesh, const std::vector<M
   const auto note_start_normal = [&](int f) {
     if (normal_known_[static_cast<std::size_t>(f)]) return;
     const Triangle t = face_triangle(f, -1, Vec3::Zero());
-    start_normal_[static_cast<std::size_t>(f)] = (t.p[1] - t.p[0]).cross(t.p[2] - t.p[0]);
+    start_normal_[static_cast<std::size_t>(f)] = t.normal();
     normal_known_[static_cast<std::size_t>(f)] = 1;
     known.push_back(f);
   };
@@ -337,7 +337,7 @@ std::vector<char> IntersectionGuard::apply_moves(Mesh& mesh, const std::vector<M
     bool turned = false;
     for (auto f : mesh.vf_range(v)) {
       const Triangle t = face_triangle(f.idx(), v.idx(), q);
-      turned = turned || (t.p[1] - t.p[0]).cross(t.p[2] - t.p[0]).dot(start_normal_[static_cast<std::size_t>(f.idx())]) <= 0.0;
+      turned = turned || t.normal().dot(start_normal_[static_cast<std::size_t>(f.idx())]) <= 0.0;
     }
     if (turned) {
       if (blocking) (*blocking)[k] = -1;
@@ -371,7 +371,7 @@ bool IntersectionGuard::flip_is_safe(Mesh::EdgeHandle e, const Mesh::VertexHandl
   };
   const Triangle t0 = tri(q[0], q[1], q[3]), t1 = tri(q[2], q[3], q[1]);
   for (const Triangle* t : {&t0, &t1}) {
-    const double area = 0.5 * (t->p[1] - t->p[0]).cross(t->p[2] - t->p[0]).norm();
+    const double area = 0.5 * t->normal().norm();
     if (area < min_face_area_ || !triangle_is_clear(*t, ignore, -1, Vec3::Zero())) {
       ++stats_.rejected_flips;
       return false;

@@ -83,6 +83,8 @@ class IntersectionGuard {
   struct Triangle {
     std::array<Vec3, 3> p;
     std::array<int, 3> id;
+    // (p1 - p0) x (p2 - p0): the face's normal, twice its area long.
+    Vec3 normal() const { return (p[1] - p[0]).cross(p[2] - p[0]); }
   };
   bool triangle_is_clear(const Triangle& t, const std::vector<int>& ignore_faces, int moved_vertex,
                          const Vec3& moved_to);
