@@ -176,6 +176,23 @@ void CollapseChecker::note_vertex(Mesh::VertexHandle v) {
   for (auto f : mesh_->vf_range(v)) grid_.insert(*mesh_, f);
 }
 
+namespace {
+
+// A face a collapse moves, before and after: not degenerate, turned by less
+// than the angle whose cosine is min_cos, and no new angle below min_angle
+// or below the face's own smallest angle when that was already lower (never
+// worse).
+bool moved_face_ok(const Tri& before, const Tri& after, double min_cos, double min_angle) {
+  const Vec3 nb = (before.p[1] - before.p[0]).cross(before.p[2] - before.p[0]);
+  const Vec3 na = (after.p[1] - after.p[0]).cross(after.p[2] - after.p[0]);
+  if (is_degenerate_triangle(after.p[0], after.p[1], after.p[2])) return false;
+  if (!(nb.norm() > 0.0) || na.normalized().dot(nb.normalized()) < min_cos) return false;
+  const double floor_angle = std::min(min_angle, smallest_angle(before.p[0], before.p[1], before.p[2]));
+  return smallest_angle(after.p[0], after.p[1], after.p[2]) >= floor_angle;
+}
+
+}  // namespace
+
 bool CollapseChecker::geometry_ok(Mesh::HalfedgeHandle h, const CollapseOptions& o) {
   const Mesh& mesh = *mesh_;
   const auto v0 = mesh.from_vertex_handle(h), v1 = mesh.to_vertex_handle(h);
@@ -185,16 +202,8 @@ bool CollapseChecker::geometry_ok(Mesh::HalfedgeHandle h, const CollapseOptions&
   std::vector<Tri> created;
   for (auto f : mesh.vf_range(v0)) {
     if (f == gone0 || f == gone1) continue;
-    const Tri before = face_tri(mesh, f);
     const Tri after = face_tri(mesh, f, v0.idx(), v1.idx(), p1);
-    const Vec3 nb = (before.p[1] - before.p[0]).cross(before.p[2] - before.p[0]);
-    const Vec3 na = (after.p[1] - after.p[0]).cross(after.p[2] - after.p[0]);
-    if (is_degenerate_triangle(after.p[0], after.p[1], after.p[2])) return false;
-    if (!(nb.norm() > 0.0) || na.normalized().dot(nb.normalized()) < min_cos) return false;
-    // Quality floor: no new angle below min_angle, or below the face's own
-    // smallest angle when that was already lower (never worse).
-    const double floor_angle = std::min(o.min_angle, smallest_angle(before.p[0], before.p[1], before.p[2]));
-    if (smallest_angle(after.p[0], after.p[1], after.p[2]) < floor_angle) return false;
+    if (!moved_face_ok(face_tri(mesh, f), after, min_cos, o.min_angle)) return false;
     created.push_back(after);
   }
   for (const Tri& t : created) {
@@ -233,22 +242,13 @@ bool CollapseChecker::geometry_ok(Mesh::HalfedgeHandle h, const CollapseOptions&
     return t;
   };
   std::vector<Tri> created;
-  for (const auto v : {v0, v1})
-    for (auto f : mesh.vf_range(v)) {
-      if (f == gone0 || f == gone1) continue;
-      bool of_both = false;
-      for (auto w : mesh.fv_range(f)) of_both = of_both || (v == v1 && w == v0);
-      if (of_both) continue;  // seen from v0 already
-      const Tri before = face_tri(mesh, f);
-      const Tri after = moved(f);
-      const Vec3 nb = (before.p[1] - before.p[0]).cross(before.p[2] - before.p[0]);
-      const Vec3 na = (after.p[1] - after.p[0]).cross(after.p[2] - after.p[0]);
-      if (is_degenerate_triangle(after.p[0], after.p[1], after.p[2])) return false;
-      if (!(nb.norm() > 0.0) || na.normalized().dot(nb.normalized()) < min_cos) return false;
-      const double floor_angle = std::min(o.min_angle, smallest_angle(before.p[0], before.p[1], before.p[2]));
-      if (smallest_angle(after.p[0], after.p[1], after.p[2]) < floor_angle) return false;
-      created.push_back(after);
-    }
+  const bool all_kept = for_each_face_moved_by_collapse(mesh, h, [&](Mesh::FaceHandle f) {
+    const Tri after = moved(f);
+    if (!moved_face_ok(face_tri(mesh, f), after, min_cos, o.min_angle)) return false;
+    created.push_back(after);
+    return true;
+  });
+  if (!all_kept) return false;
   // The moved faces among themselves (the grid holds their old boxes), then against the rest.
   for (std::size_t i = 0; i < created.size(); ++i)
     for (std::size_t j = i + 1; j < created.size(); ++j)

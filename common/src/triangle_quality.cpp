@@ -443,20 +443,16 @@ bool QualityPass::collapse_to(Mesh::HalfedgeHandle h, double where, CollapseChec
   const auto gone0 = mesh_.face_handle(h), gone1 = mesh_.face_handle(mesh_.opposite_halfedge_handle(h));
   std::vector<Tri> created;
   double before = std::min(face_min_angle(mesh_, gone0), face_min_angle(mesh_, gone1)), after = 180.0;
-  for (const auto end : {v0, v1})
-    for (auto g : mesh_.vf_range(end)) {
-      if (g == gone0 || g == gone1) continue;
-      bool of_both = false;
-      for (auto w : mesh_.fv_range(g)) of_both = of_both || (end == v1 && w == v0);
-      if (of_both) continue;  // seen from v0 already
-      before = std::min(before, face_min_angle(mesh_, g));
-      Tri t;
-      int i = 0;
-      for (auto w : mesh_.fv_range(g)) t[i++] = (w == v0 || w == v1) ? m : pos(mesh_, w);
-      after = std::min(after, triangle_min_angle(t[0], t[1], t[2]));
-      if (blocked(t)) return false;
-      created.push_back(t);
-    }
+  const bool clear = for_each_face_moved_by_collapse(mesh_, h, [&](Mesh::FaceHandle g) {
+    before = std::min(before, face_min_angle(mesh_, g));
+    Tri t;
+    int i = 0;
+    for (auto w : mesh_.fv_range(g)) t[i++] = (w == v0 || w == v1) ? m : pos(mesh_, w);
+    after = std::min(after, triangle_min_angle(t[0], t[1], t[2]));
+    created.push_back(t);
+    return !blocked(t);
+  });
+  if (!clear) return false;
   if (after < bound_ && !(after > before + 1e-6)) return false;
   if (max_error_ > 0.0 && std::max(distance_to(p0, created), distance_to(p1, created)) > max_error_) return false;
   if (!checker.geometry_ok(h, co, m)) return false;

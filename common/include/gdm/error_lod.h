@@ -48,6 +48,25 @@ std::size_t split_deviating_faces(Mesh& mesh, const Volume& volume, double thres
 // because OpenMesh tags vertices in is_collapse_ok; the mesh is not changed.
 bool collapse_keeps_topology(Mesh& mesh, Mesh::HalfedgeHandle h);
 
+// Calls keep_going(face) for each face that a collapse of h moves: every face
+// around either end of h but h's own two, each once (a face around both ends
+// is seen from h's start). Stops, and returns false, at the first call that
+// returns false.
+template <class Fn>
+bool for_each_face_moved_by_collapse(const Mesh& mesh, Mesh::HalfedgeHandle h, Fn&& keep_going) {
+  const auto v0 = mesh.from_vertex_handle(h), v1 = mesh.to_vertex_handle(h);
+  const auto gone0 = mesh.face_handle(h), gone1 = mesh.face_handle(mesh.opposite_halfedge_handle(h));
+  for (const auto end : {v0, v1})
+    for (auto f : mesh.vf_range(end)) {
+      if (f == gone0 || f == gone1) continue;
+      bool of_both = false;
+      for (auto w : mesh.fv_range(f)) of_both = of_both || (end == v1 && w == v0);
+      if (of_both) continue;
+      if (!keep_going(f)) return false;
+    }
+  return true;
+}
+
 struct CollapseOptions {
   double tolerance = 0.0;         // deviation allowed for the new faces, mm; <= 0: not checked
   double search = 1.5;            // crossing search range for the deviation, mm
