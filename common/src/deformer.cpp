@@ -10,6 +10,7 @@
 
 #include "gdm/cavities.h"
 #include "gdm/channel_width.h"
+#include "gdm/creases.h"
 #include "gdm/error_lod.h"
 #include "gdm/errors.h"
 #include "gdm/face_budget.h"
@@ -322,6 +323,7 @@ class Deformer {
   bool subdivide_safely(int cycle);
   void refine_for_budget(int cycle, const FitOptions& fit, std::vector<Vec3>& origin, DeformResult& result);
   void reduce_to_budget(const FitOptions& fit, DeformResult& result);
+  void sharpen_edges(const FitOptions& fit, DeformResult& result);
   void settle_budget(DeformResult& result);
 
   Mesh& mesh_;
@@ -1073,6 +1075,7 @@ void Deformer::finish(int cycle, DeformResult& result) {
   fit.noise = estimate_crossing_noise(mesh_, volume_, o_.threshold, std::max(1.5, 3.0 * o_.lod_tolerance) * voxel_);
   std::vector<Vec3> origin;  // where the deformation left each vertex (new ones: where created)
   if (o_.subvoxel_fit || budget) result.fit_moves += fit_to_threshold(mesh_, volume_, o_.threshold, fit, origin).moves;
+  if (o_.subvoxel_fit && !budget) sharpen_edges(fit, result);
   if (budget) {
     refine_for_budget(cycle, fit, origin, result);
     reduce_to_budget(fit, result);
@@ -1165,6 +1168,11 @@ void Deformer::refine_for_budget(int cycle, const FitOptions& fit, std::vector<V
 // distance 0.091 against 0.110 voxel on the noisy C tube at 500 faces, 0.094
 // against 0.102 on the clean branching tube at 552.
 void Deformer::reduce_to_budget(const FitOptions& fit, DeformResult& result) {
+  // Sharp edges on the fine model first: the quadrics then hold their planes
+  // and the collapses keep vertices on them (the cube with a corner missing
+  // at 5 % of marching cubes' faces: mean distance of its edges to the
+  // model 0.345 -> 0.011 voxel); again after the last fit, which rounds them.
+  sharpen_edges(fit, result);
   ReduceOptions r;
   r.faces = o_.face_budget;
   r.min_angle = o_.min_angle > 0.0 ? o_.min_angle : o_.lod_min_angle;
@@ -1172,6 +1180,22 @@ void Deformer::reduce_to_budget(const FitOptions& fit, DeformResult& result) {
   result.budget_collapses += reduce_to_faces(mesh_, r).collapses;
   std::vector<Vec3> origin;  // anchored where the reduction left the vertices
   result.fit_moves += fit_to_threshold(mesh_, volume_, o_.threshold, fit, origin).moves;
+  sharpen_edges(fit, result);
+}
+
+// Vertices onto the object's sharp edges and corners (creases.h), after a
+// fit, with the fit's estimate of the crossings' noise.
+void Deformer::sharpen_edges(const FitOptions& fit, DeformResult& result) {
+  if (!o_.sharp_edges) return;
+  CreaseOptions c;
+  c.noise = std::max(0.0, fit.noise);
+  c.generation = report_.cycle;
+  c.prevent_self_intersection = o_.prevent_self_intersection;
+  c.threads = threads_;
+  const CreaseResult r = sharpen_creases(mesh_, volume_, o_.threshold, c);
+  result.sharp_corners += r.corners;
+  result.sharp_edge_moves += r.edge_moves;
+  result.sharp_edge_splits += r.splits;
 }
 
 // After the triangle-quality pass (its splits add faces, its collapses remove

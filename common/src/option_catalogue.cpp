@@ -131,6 +131,7 @@ std::vector<Entry> make_catalogue() {
       integer(row("fit_passes", fit, "", "sweeps of the sub-voxel fit"), 1, 20, F(o.fit_passes)),
       real(row("fit_max_distance", fit, "voxels", "a vertex moves at most this far in the fit"), 0.0, open, 4.0, closed, F(o.fit_max_distance)),
       real(row("fit_smoothing", fit, "", "the fit draws a vertex toward the quadric over its 2-ring where it stands within this many image-noise levels of it (smooths noise, keeps edges); 0 = off"), 0.0, closed, 5.0, closed, F(o.fit_smoothing)),
+      boolean(row("sharp_edges", fit, "", "after the fit, vertices onto the object's sharp edges and corners: where the faces around a vertex lie in two or three flat planes that the data bends between within 1.5 voxels, the vertex moves to where they meet and edges crossing the line are split on it (a box's edges and corners kept, not rounded); smooth bends and noisy data are left as they are"), F(o.sharp_edges)),
       special(real(row("lod_tolerance", fit, "voxels", "error-driven level of detail: at most this deviation of a face from the threshold surface; splits where the surface leaves the faces, collapses where flat"), 0.01, closed, 10.0, closed, F(o.lod_tolerance)), 0.0, "0 (off)"),
       real(row("lod_min_angle", fit, "degrees", "collapses of the error-driven level of detail keep every angle above this"), 0.0, closed, 60.0, open, F(o.lod_min_angle)),
       integer(row("lod_rounds", fit, "rounds", "collapse / split / fit rounds of the error-driven level of detail"), 1, 50, F(o.lod_rounds)),

@@ -62,6 +62,9 @@ std::string summary_text(const RunRecord& r) {
     if (n > 0) finish += (finish.empty() ? "" : ", ") + std::to_string(n) + " " + what;
   };
   part(r.model.fit_moves, "fit moves");
+  part(r.model.sharp_corners, "vertices onto corners");
+  part(r.model.sharp_edge_moves, "vertices onto sharp edges");
+  part(r.model.sharp_edge_splits, "edges split on sharp edges");
   part(r.model.lod_splits, "lod splits");
   part(r.model.lod_collapses, "lod collapses");
   part(r.model.pleat_vertices, "pleat collapses and smoothed vertices (shrinking)");
@@ -180,6 +183,9 @@ std::string report_json(const RunRecord& r, const Options& options) {
       .add("flips", json_number(r.model.flips))
       .add("border_vertices", json_number(r.model.border_vertices))
       .add("fit_moves", json_number(r.model.fit_moves))
+      .add("sharp_corners", json_number(r.model.sharp_corners))
+      .add("sharp_edge_moves", json_number(r.model.sharp_edge_moves))
+      .add("sharp_edge_splits", json_number(r.model.sharp_edge_splits))
       .add("lod_splits", json_number(r.model.lod_splits))
       .add("lod_collapses", json_number(r.model.lod_collapses))
       .add("pleat_vertices", json_number(r.model.pleat_vertices))

@@ -132,6 +132,10 @@ operator<<(std::ostream & os, const GeometricallyDeformedModelEnums::Polarity va
  *   FitSmoothing [0.5, in [0, 5], 0 = off] draws a vertex toward the quadric
  *   over its 2-ring where it stands within that many image-noise levels of
  *   it (smooths noise, keeps edges and corners).
+ * - SharpEdges [on]: after the fit, vertices onto the object's sharp edges and
+ *   corners (where the faces around a vertex lie in two or three flat planes
+ *   the data bends between within 1.5 voxels; edges crossing such a line are
+ *   split on it). Smooth bends and noisy data are left as they are.
  * - LevelOfDetailTolerance [0 = off, in [0.01, 10] voxels]: error-driven level
  *   of detail after the fit: faces deviating from the threshold surface by
  *   more than this are split, edges whose collapse keeps the new faces within
@@ -396,6 +400,11 @@ public:
   itkGetConstMacro(SubvoxelFit, bool);
   itkBooleanMacro(SubvoxelFit);
 
+  /** Vertices onto the object's sharp edges and corners after the fit. */
+  itkSetMacro(SharpEdges, bool);
+  itkGetConstMacro(SharpEdges, bool);
+  itkBooleanMacro(SharpEdges);
+
   /** Least-squares sweeps of the sub-voxel fit, in [1, 20]. */
   itkSetMacro(NumberOfFitPasses, unsigned int);
   itkGetConstMacro(NumberOfFitPasses, unsigned int);
@@ -595,6 +604,7 @@ private:
   unsigned int  m_NumberOfCoarseLevels;
   bool          m_FillCavities;
   bool          m_SubvoxelFit;
+  bool          m_SharpEdges;
   unsigned int  m_NumberOfFitPasses;
   double        m_FitMaximumDistance;
   double        m_FitSmoothing;

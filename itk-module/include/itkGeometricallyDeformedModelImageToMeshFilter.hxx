@@ -66,6 +66,7 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::SetDeform
   m_NumberOfCoarseLevels = static_cast<unsigned int>(o.coarse_levels);
   m_FillCavities = o.fill_cavities;
   m_SubvoxelFit = o.subvoxel_fit;
+  m_SharpEdges = o.sharp_edges;
   m_NumberOfFitPasses = static_cast<unsigned int>(o.fit_passes);
   m_FitMaximumDistance = o.fit_max_distance;
   m_FitSmoothing = o.fit_smoothing;
@@ -157,6 +158,7 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::GetDeform
   o.coarse_levels = static_cast<int>(m_NumberOfCoarseLevels);
   o.fill_cavities = m_FillCavities;
   o.subvoxel_fit = m_SubvoxelFit;
+  o.sharp_edges = m_SharpEdges;
   o.fit_passes = static_cast<int>(std::min<unsigned int>(m_NumberOfFitPasses, 1000000u));
   o.fit_max_distance = m_FitMaximumDistance;
   o.fit_smoothing = m_FitSmoothing;
@@ -375,6 +377,7 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::PrintSelf
   os << indent << "NumberOfCoarseLevels: " << m_NumberOfCoarseLevels << std::endl;
   os << indent << "FillCavities: " << m_FillCavities << std::endl;
   os << indent << "SubvoxelFit: " << (m_SubvoxelFit ? "On" : "Off") << std::endl;
+  os << indent << "SharpEdges: " << (m_SharpEdges ? "On" : "Off") << std::endl;
   os << indent << "NumberOfFitPasses: " << m_NumberOfFitPasses << std::endl;
   os << indent << "FitMaximumDistance: " << m_FitMaximumDistance << std::endl;
   os << indent << "FitSmoothing: " << m_FitSmoothing << std::endl;

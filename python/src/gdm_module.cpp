@@ -638,6 +638,9 @@ py::dict model_report(const gdm::DeformResult& r, double seconds, double check_s
   d["flips"] = r.flips;
   d["border_vertices"] = r.border_vertices;
   d["fit_moves"] = r.fit_moves;
+  d["sharp_corners"] = r.sharp_corners;
+  d["sharp_edge_moves"] = r.sharp_edge_moves;
+  d["sharp_edge_splits"] = r.sharp_edge_splits;
   d["lod_splits"] = r.lod_splits;
   d["lod_collapses"] = r.lod_collapses;
   d["pleat_vertices"] = r.pleat_vertices;

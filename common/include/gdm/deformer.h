@@ -93,6 +93,11 @@ struct DeformOptions {
   double fit_smoothing = 0.5;        // noise-adaptive smoothing of the fit, in [0, 5] (0 = off): a vertex
                                      // within this many noise levels of the quadric over its 2-ring is
                                      // drawn toward it (FitOptions::regularization)
+  bool sharp_edges = true;           // after the fit, vertices onto the object's sharp edges and corners
+                                     // where the faces around them lie in two or three planes that meet
+                                     // within 1.5 voxels of the data (creases.h): splits add vertices
+                                     // on the edges; smooth bends and noise too strong to tell them
+                                     // apart change nothing
   double lod_tolerance = 0.0;        // error-driven level of detail: largest deviation of a face from
                                      // the threshold surface, voxels (smallest spacing); 0 = off. It
                                      // fits the vertices it changes even when subvoxel_fit is off
@@ -200,6 +205,9 @@ struct DeformResult {
   std::size_t quality_collapses = 0;  // short edges collapsed by it
   std::size_t quality_moves = 0;      // vertex moves of its relaxation
   std::size_t faces_below_min_angle = 0;  // faces left with an angle below min_angle (0 when it is off)
+  std::size_t sharp_corners = 0;      // vertices moved onto a corner of the object (sharp_edges)
+  std::size_t sharp_edge_moves = 0;   // vertices moved onto one of its sharp edges (corners not counted)
+  std::size_t sharp_edge_splits = 0;  // edges split where they cross a sharp edge (two faces each)
   std::size_t face_budget = 0;          // faces requested (DeformOptions::face_budget; 0 = off)
   std::size_t faces = 0;                // faces of the final model
   std::size_t budget_subdivisions = 0;  // 1-to-4 subdivisions (each followed by a fit) to exceed the budget

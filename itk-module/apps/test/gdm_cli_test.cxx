@@ -614,9 +614,10 @@ TEST(Output, ProgressLinesPerCycle) {
   EXPECT_EQ(static_cast<double>(expected - 1), json_value(json, "cycles")) << "one line per cycle";
   EXPECT_EQ(static_cast<double>(last_stage), json_value(json, "global_refinements"));
   // Without the error-driven level of detail the final fit keeps the faces;
-  // the triangle-quality pass (min_angle) adds two per split, removes two per collapse.
-  EXPECT_EQ(static_cast<double>(last_faces) + 2.0 * json_value(json, "quality_splits") -
-                2.0 * json_value(json, "quality_collapses"),
+  // the sharp edges (sharp_edges) and the triangle-quality pass (min_angle)
+  // add two per split, the quality pass removes two per collapse.
+  EXPECT_EQ(static_cast<double>(last_faces) + 2.0 * json_value(json, "sharp_edge_splits") +
+                2.0 * json_value(json, "quality_splits") - 2.0 * json_value(json, "quality_collapses"),
             json_value(json, "faces"));
   EXPECT_GT(moved_total, 0u);
 }
