@@ -261,9 +261,7 @@ TEST(Creases, the_tooth_pulp_is_no_farther_from_marching_cubes) {
   ph::DistanceStats stats[2];
   for (const bool sharp : {false, true}) {
     Mesh mesh = make_icosahedron(volume.to_physical(Vec3(s[0], s[1], s[2])), 2.0);
-    DeformOptions o;
-    o.threshold = test::kToothPulpThreshold;
-    o.polarity = Polarity::object_darker;
+    DeformOptions o = test::tooth_pulp_options();
     o.sharp_edges = sharp;
     const DeformResult r = deform(mesh, volume, o);
     test::expect_valid_closed_surface(mesh);

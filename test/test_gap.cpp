@@ -389,9 +389,7 @@ TEST(Gap, tooth_pulp_at_the_defaults_follows_the_canals) {
   const Index3 s = test::kToothPulpSeed;
   // The seed the pipeline makes for a seed voxel: a sphere of two voxels.
   Mesh mesh = make_geodesic_sphere(tooth.to_physical(Vec3(s[0], s[1], s[2])), 2.0 * tooth.voxel_size(), 1);
-  DeformOptions o;
-  o.threshold = test::kToothPulpThreshold;
-  o.polarity = Polarity::object_darker;
+  DeformOptions o = test::tooth_pulp_options();
   o.stop_at_border = true;
   const DeformResult r = deform(mesh, tooth, o);
   test::expect_valid_closed_surface(mesh);

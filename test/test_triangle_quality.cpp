@@ -209,9 +209,7 @@ TEST(TriangleQuality, tooth_pulp_against_marching_cubes) {
   for (const bool channels : {false, true})
     for (const double bound : {0.0, 10.0, 20.0}) {
       Mesh mesh = make_icosahedron(volume.to_physical(Vec3(s[0], s[1], s[2])), 2.0);
-      DeformOptions o;
-      o.threshold = test::kToothPulpThreshold;
-      o.polarity = Polarity::object_darker;
+      DeformOptions o = test::tooth_pulp_options();
       o.refine_channels = channels;
       o.min_angle = bound;
       const auto start = std::chrono::steady_clock::now();
