@@ -121,13 +121,13 @@ TEST(FaceBudgetTargets, noisy_phantoms_at_a_tenth_of_marching_cubes_faces) {
 // faces: the budget is met, and the true creases are measured against the
 // mesh. With sharp edges (creases.h) the fine model gets vertices on the
 // edges and corners before the reduction, whose quadrics then keep them, and
-// again after the last fit: measured mean 0.011 voxel, 97.8 % of the crease
-// points within the 0.2 voxel, max 0.84 (next to the notch's saddle
-// corners, where the edges' last segments are not split); without, mean
-// 0.35, max 1.29. Asserted: mean at most 0.05, 95 % within 0.2, all within
-// 1.0 voxel; the vertices near them (within 3 voxels of two of the planes)
-// within 0.2 voxel of the surface at the 95th percentile (measured 0.11;
-// 0.40 without).
+// again after the last fit: measured mean 0.0045 voxel, 99.2 % of the crease
+// points within the 0.2 voxel, max 0.85 (next to the notch's saddle
+// corner (52, 32, 32), where an edge's first segment is not split); without,
+// mean 0.35, max 1.29. Asserted: mean at most 0.05, 95 % within 0.2, all
+// within 1.0 voxel; the vertices near them (within 3 voxels of two of the
+// planes) within 0.2 voxel of the surface at the 95th percentile (measured
+// 0.075; 0.40 without).
 TEST(FaceBudgetTargets, cube_edges_and_corners_kept_at_five_percent) {
   ph::Grid grid;
   const auto sdf = ph::difference(ph::box(Vec3(12, 12, 12), Vec3(52, 52, 52)), ph::box(Vec3(32, 32, 32), Vec3(60, 60, 60)));

@@ -28,6 +28,9 @@ constexpr double kCornerOutOfPlane = 0.5;
 constexpr double kMaxEdgeRadius = 1.5;
 constexpr double kNoiseMargin = 3.0;
 
+// Rounds of finding planes and placing vertices, at most.
+constexpr int kRounds = 3;
+
 // A corner is one point: the vertex nearest it may travel twice max_move
 // to it (its faces are then checked by the guard like any move's).
 constexpr double kCornerReach = 2.0;
@@ -87,19 +90,29 @@ class CreaseMaker {
     // given only: computed on the run's threads, the same for any count.
     samples_.resize(mesh_.n_faces());
     parallel_for(mesh_.n_faces(), o_.threads, [&](std::size_t f) { sample_face(Mesh::FaceHandle(static_cast<int>(f))); });
-    local_.resize(mesh_.n_vertices());
-    parallel_for(mesh_.n_vertices(), o_.threads, [&](std::size_t v) {
-      local_[v] = planes_at(Mesh::VertexHandle(static_cast<int>(v)));
-    });
-    for (const LocalPlanes& l : local_) {
-      result_.edge_vertices += l.planes.size() == 2;
-      result_.corner_vertices += l.planes.size() == 3;
+    // Rounds: a vertex placed on an edge or a corner changes the faces
+    // around it, and the next round sees the edge's segments next to it
+    // (beside a corner, most of all) that the first could not.
+    for (int round = 0; round < kRounds; ++round) {
+      local_.assign(mesh_.n_vertices(), LocalPlanes{});
+      parallel_for(mesh_.n_vertices(), o_.threads, [&](std::size_t v) {
+        local_[v] = planes_at(Mesh::VertexHandle(static_cast<int>(v)));
+      });
+      std::size_t found = 0;
+      for (const LocalPlanes& l : local_) found += l.planes.size() >= 2;
+      if (round == 0)
+        for (const LocalPlanes& l : local_) {
+          result_.edge_vertices += l.planes.size() == 2;
+          result_.corner_vertices += l.planes.size() == 3;
+        }
+      if (found == 0) break;
+      if (o_.prevent_self_intersection && !guard_)
+        guard_ = std::make_unique<IntersectionGuard>(mesh_, 0.05 * voxel_, 1e-6 * voxel_ * voxel_);
+      const std::size_t before = result_.corners + result_.edge_moves + result_.splits;
+      move_to_corners();
+      split_across_edges();
+      if (result_.corners + result_.edge_moves + result_.splits == before) break;
     }
-    if (result_.edge_vertices + result_.corner_vertices == 0) return result_;
-    if (o_.prevent_self_intersection)
-      guard_ = std::make_unique<IntersectionGuard>(mesh_, 0.05 * voxel_, 1e-6 * voxel_ * voxel_);
-    move_to_corners();
-    split_across_edges();
     return result_;
   }
 
@@ -326,12 +339,11 @@ class CreaseMaker {
     }
     std::sort(candidates.begin(), candidates.end(),
               [](const Candidate& a, const Candidate& b) { return a.travel != b.travel ? a.travel < b.travel : a.vertex < b.vertex; });
-    std::vector<Vec3> taken;
     for (const Candidate& c : candidates) {
-      const bool known = std::any_of(taken.begin(), taken.end(), [&](const Vec3& t) { return (t - c.corner).norm() < 0.5 * voxel_; });
+      const bool known = std::any_of(taken_.begin(), taken_.end(), [&](const Vec3& t) { return (t - c.corner).norm() < 0.5 * voxel_; });
       if (known) continue;
       if (try_move(Mesh::VertexHandle(c.vertex), c.corner, kCornerReach * o_.max_move * voxel_)) {
-        taken.push_back(c.corner);
+        taken_.push_back(c.corner);
         on_edge_.resize(mesh_.n_vertices(), 0);
         on_edge_[static_cast<std::size_t>(c.vertex)] = 1;
         ++result_.corners;
@@ -409,7 +421,8 @@ class CreaseMaker {
   double cos_lean_;  // the crossings' plane leans at most half the spread from its faces' mean normal
   std::vector<FaceSample> samples_;
   std::vector<LocalPlanes> local_;
-  std::vector<char> on_edge_;
+  std::vector<char> on_edge_;  // vertices placed on an edge or a corner
+  std::vector<Vec3> taken_;     // corners a vertex was placed on
   std::unique_ptr<IntersectionGuard> guard_;
   CreaseResult result_;
 };
