@@ -83,7 +83,8 @@ class CreaseMaker {
   CreaseMaker(Mesh& mesh, const Volume& volume, double threshold, const CreaseOptions& o)
       : mesh_(mesh), volume_(volume), threshold_(threshold), o_(o), voxel_(volume.voxel_size()),
         cos_spread_(std::cos(o.plane_spread * M_PI / 180.0)), cos_edge_(std::cos(o.min_angle * M_PI / 180.0)),
-        cos_lean_(std::cos(0.5 * o.plane_spread * M_PI / 180.0)) {}
+        cos_lean_(std::cos(0.5 * o.plane_spread * M_PI / 180.0)),
+        cos_half_edge_(std::cos(0.5 * o.min_angle * M_PI / 180.0)) {}
 
   CreaseResult run() {
     // Each face's sample and each vertex's planes depend on the mesh as
@@ -93,10 +94,14 @@ class CreaseMaker {
     // Rounds: a vertex placed on an edge or a corner changes the faces
     // around it, and the next round sees the edge's segments next to it
     // (beside a corner, most of all) that the first could not.
+    // After the first, a round looks again only at the vertices whose
+    // planes can have changed: within the planes' rings (and one more, for
+    // an edge's other end) of a vertex the last round moved or added.
+    std::vector<char> look(mesh_.n_vertices(), 1);
     for (int round = 0; round < kRounds; ++round) {
       local_.assign(mesh_.n_vertices(), LocalPlanes{});
       parallel_for(mesh_.n_vertices(), o_.threads, [&](std::size_t v) {
-        local_[v] = planes_at(Mesh::VertexHandle(static_cast<int>(v)));
+        if (look[v]) local_[v] = planes_at(Mesh::VertexHandle(static_cast<int>(v)));
       });
       std::size_t found = 0;
       for (const LocalPlanes& l : local_) found += l.planes.size() >= 2;
@@ -109,11 +114,31 @@ class CreaseMaker {
       if (o_.prevent_self_intersection && !guard_)
         guard_ = std::make_unique<IntersectionGuard>(mesh_, 0.05 * voxel_, 1e-6 * voxel_ * voxel_);
       const std::size_t before = result_.corners + result_.edge_moves + result_.splits;
+      changed_.clear();
       move_to_corners();
       split_across_edges();
       if (result_.corners + result_.edge_moves + result_.splits == before) break;
+      look = near_changes();
     }
     return result_;
+  }
+
+  // The vertices within o_.rings + 1 rings of those changed this round.
+  std::vector<char> near_changes() const {
+    std::vector<char> near(mesh_.n_vertices(), 0);
+    std::vector<int> frontier(changed_.begin(), changed_.end()), next;
+    for (int v : frontier) near[static_cast<std::size_t>(v)] = 1;
+    for (int ring = 0; ring <= o_.rings; ++ring) {
+      next.clear();
+      for (int v : frontier)
+        for (auto w : mesh_.vv_range(Mesh::VertexHandle(v)))
+          if (!near[static_cast<std::size_t>(w.idx())]) {
+            near[static_cast<std::size_t>(w.idx())] = 1;
+            next.push_back(w.idx());
+          }
+      frontier.swap(next);
+    }
+    return near;
   }
 
  private:
@@ -138,29 +163,52 @@ class CreaseMaker {
     s.valid = true;
   }
 
+  // Whether every face's normal lies within half the edge angle of their
+  // mean: then no two are the edge angle apart (most vertices; a test in
+  // one pass over the faces before the seeds' pairs).
+  bool all_within_half_an_edge_angle(const std::vector<int>& faces) const {
+    Vec3 mean = Vec3::Zero();
+    for (int f : faces) mean += sample(f).normal;
+    if (!(mean.norm() > 0.0)) return false;
+    mean.normalize();
+    for (int f : faces)
+      if (sample(f).normal.dot(mean) < cos_half_edge_) return false;
+    return true;
+  }
+
   // Seeds: the normal most of the faces' area agrees with (within the
   // spread), then the one most agree with among the faces at least the edge
   // angle from it, then one at least that far from both (a corner).
   std::vector<Vec3> seed_normals(const std::vector<int>& faces) const {
+    // Each face's support (the area of the faces within the spread of its
+    // normal) once; a seed is the best supported face apart from the seeds.
+    thread_local std::vector<double> support;
+    support.assign(faces.size(), 0.0);
+    for (std::size_t i = 0; i < faces.size(); ++i) {
+      support[i] += sample(faces[i]).area;
+      for (std::size_t j = i + 1; j < faces.size(); ++j)
+        if (sample(faces[i]).normal.dot(sample(faces[j]).normal) >= cos_spread_) {
+          support[i] += sample(faces[j]).area;
+          support[j] += sample(faces[i]).area;
+        }
+    }
     std::vector<Vec3> seeds;
     for (int k = 0; k < 3; ++k) {
       double best = 0.0;
       int seed = -1;
-      for (int f : faces) {
-        const Vec3& n = sample(f).normal;
+      Vec3 out_of_plane = Vec3::Zero();
+      if (seeds.size() == 2) out_of_plane = seeds[0].cross(seeds[1]).normalized();
+      for (std::size_t i = 0; i < faces.size(); ++i) {
+        if (support[i] <= best) continue;
+        const Vec3& n = sample(faces[i]).normal;
         bool apart = true;
         for (const Vec3& s : seeds) apart = apart && n.dot(s) < cos_edge_;
         // A corner's third normal stands out of the other two's plane; a
         // face across the edge between two planes has its normal in it.
-        if (seeds.size() == 2) apart = apart && std::abs(n.dot(seeds[0].cross(seeds[1]).normalized())) >= kCornerOutOfPlane;
+        if (seeds.size() == 2) apart = apart && std::abs(n.dot(out_of_plane)) >= kCornerOutOfPlane;
         if (!apart) continue;
-        double support = 0.0;
-        for (int g : faces)
-          if (n.dot(sample(g).normal) >= cos_spread_) support += sample(g).area;
-        if (support > best) {
-          best = support;
-          seed = f;
-        }
+        best = support[i];
+        seed = faces[i];
       }
       if (seed < 0) break;
       seeds.push_back(sample(seed).normal);
@@ -175,6 +223,7 @@ class CreaseMaker {
     std::vector<int> faces;
     for (int f : around)
       if (sample(f).valid) faces.push_back(f);
+    if (faces.size() < 4 || all_within_half_an_edge_angle(faces)) return {};
     std::vector<Vec3> normals = seed_normals(faces);
     if (normals.size() < 2) return {};
     // Members by angle to each normal; each normal then the area-weighted
@@ -316,6 +365,7 @@ class CreaseMaker {
       return false;
     }
     mesh_.set_point(v, to_point(p));
+    changed_.push_back(v.idx());
     for (auto f : mesh_.vf_range(v)) {
       sample_face(f);
       if (guard_) guard_->note_face(f);
@@ -403,6 +453,7 @@ class CreaseMaker {
       on_edge_.resize(mesh_.n_vertices(), 0);
       local_.resize(mesh_.n_vertices());
       for (auto f : mesh_.vf_range(mid)) sample_face(f);
+      changed_.push_back(mid.idx());
       if (guard_) guard_->note_new_faces();
       ++result_.splits;
       if (try_move(mid, *on, o_.max_move * voxel_)) {
@@ -418,11 +469,13 @@ class CreaseMaker {
   const CreaseOptions& o_;
   double voxel_;
   double cos_spread_, cos_edge_;
+  double cos_half_edge_;
   double cos_lean_;  // the crossings' plane leans at most half the spread from its faces' mean normal
   std::vector<FaceSample> samples_;
   std::vector<LocalPlanes> local_;
   std::vector<char> on_edge_;  // vertices placed on an edge or a corner
   std::vector<Vec3> taken_;     // corners a vertex was placed on
+  std::vector<int> changed_;    // vertices moved or added this round
   std::unique_ptr<IntersectionGuard> guard_;
   CreaseResult result_;
 };
