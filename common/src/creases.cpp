@@ -5,9 +5,9 @@
 #include <limits>
 #include <memory>
 #include <optional>
+#include <vector>
 
 #include <Eigen/Eigenvalues>
-#include <vector>
 
 #include "gdm/intersection_guard.h"
 #include "gdm/parallel.h"
@@ -469,8 +469,8 @@ class CreaseMaker {
   const CreaseOptions& o_;
   double voxel_;
   double cos_spread_, cos_edge_;
-  double cos_half_edge_;
-  double cos_lean_;  // the crossings' plane leans at most half the spread from its faces' mean normal
+  double cos_lean_;       // the crossings' plane leans at most half the spread from its faces' mean normal
+  double cos_half_edge_;  // half the edge angle: faces all this close to their mean normal make no edge
   std::vector<FaceSample> samples_;
   std::vector<LocalPlanes> local_;
   std::vector<char> on_edge_;  // vertices placed on an edge or a corner
