@@ -3,8 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <queue>
-#include <unordered_set>
+#include <cstdint>
 #include <vector>
 
 #include "gdm/cell_hash.h"
@@ -35,6 +34,75 @@ double free_run(const ImageEvent& image, const Vec3& p, const Vec3& d, double st
   double t = step;
   while (t <= limit && !image.is_blocked(p + t * d)) t += step;
   return std::min(t, limit + step) - 0.5 * step;
+}
+
+// The lattice offsets one walk of free_room_reaches has seen: open
+// addressing in a table kept per thread, each entry stamped with the walk it
+// belongs to, so a walk starts without clearing or allocating (the walks are
+// short and many: a std::unordered_set's allocations were most of their
+// time, issue 17).
+class SeenOffsets {
+ public:
+  void start() {
+    if (table_.empty()) table_.resize(256);
+    if (++stamp_ == 0) {
+      for (Entry& e : table_) e.stamp = 0;
+      stamp_ = 1;
+    }
+    size_ = 0;
+  }
+  // Whether key was not seen before in this walk (it is now).
+  bool insert(CellKey key) {
+    if (2 * (size_ + 1) > table_.size()) grow();
+    const std::size_t mask = table_.size() - 1;
+    for (std::size_t i = slot(key);; i = (i + 1) & mask) {
+      Entry& e = table_[i];
+      if (e.stamp != stamp_) {
+        e = {key, stamp_};
+        ++size_;
+        return true;
+      }
+      if (e.key == key) return false;
+    }
+  }
+
+ private:
+  struct Entry {
+    CellKey key = 0;
+    std::uint32_t stamp = 0;
+  };
+  std::size_t slot(CellKey key) const {
+    return static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> 40) & (table_.size() - 1);
+  }
+  void grow() {
+    std::vector<Entry> old(table_.size() * 2);
+    old.swap(table_);
+    size_ = 0;
+    for (const Entry& e : old)
+      if (e.stamp == stamp_) insert(e.key);
+  }
+  std::vector<Entry> table_;
+  std::uint32_t stamp_ = 0;
+  std::size_t size_ = 0;
+};
+
+// A walk's storage, one per thread and kept (the walks are many).
+struct WalkScratch {
+  SeenOffsets seen;
+  struct Open {
+    double height;
+    std::size_t order;
+    std::array<int, 3> c;
+    bool operator<(const Open& o) const { return height < o.height || (height == o.height && order > o.order); }
+  };
+  std::vector<Open> open;  // a heap (std::push_heap / pop_heap)
+};
+
+// Out of line: the caller keeps the address it returns, where GCC looked a
+// thread_local up again at every use inside the walk's loops.
+[[gnu::noinline]] WalkScratch& walk_scratch() {
+  thread_local WalkScratch scratch;
+  return scratch;
 }
 
 }  // namespace
@@ -68,35 +136,37 @@ bool free_room_reaches(const ImageEvent& image, const Vec3& start, const Vec3& a
   if (image.is_blocked(start)) return false;
   const Vec3 step = 0.5 * spacing;
   // Lattice offsets from start, one key each (cell_hash.h).
-  std::unordered_set<CellKey> seen{cell_key(0, 0, 0)};
+  WalkScratch& scratch = walk_scratch();
+  SeenOffsets& seen = scratch.seen;
+  seen.start();
+  seen.insert(cell_key(0, 0, 0));
   // The walk goes deepest point first (ties: the point found first): where
   // the room reaches the depth it gets there in a few steps instead of
   // after every shallower point. The answer does not depend on the order:
   // it is whether the free component of the lattice ahead of the plane has
   // a point that deep or more than max_points points, and either is found
   // by any order that stops at the first deep point or at max_points.
-  struct Open {
-    double height;
-    std::size_t order;
-    std::array<int, 3> c;
-    bool operator<(const Open& o) const { return height < o.height || (height == o.height && order > o.order); }
-  };
-  std::priority_queue<Open> open;
-  open.push({0.0, 0, {0, 0, 0}});
+  std::vector<WalkScratch::Open>& open = scratch.open;
+  open.clear();
+  open.push_back({0.0, 0, {0, 0, 0}});
   std::size_t found = 1;  // points accepted into the walk
   while (!open.empty()) {
-    const std::array<int, 3> c = open.top().c;
-    open.pop();
+    std::pop_heap(open.begin(), open.end());
+    const std::array<int, 3> c = open.back().c;
+    open.pop_back();
     for (int dz = -1; dz <= 1; ++dz)
       for (int dy = -1; dy <= 1; ++dy)
         for (int dx = -1; dx <= 1; ++dx) {
           const int x = c[0] + dx, y = c[1] + dy, z = c[2] + dz;
-          if (!seen.insert(cell_key(x, y, z)).second) continue;
+          // Behind the plane: never part of the walk (tested before the
+          // set, which then holds only points ahead).
           const Vec3 q = start + Vec3(x, y, z).cwiseProduct(step);
           const double height = (q - start).dot(ahead);
-          if (height < 0.0 || image.is_blocked(q)) continue;
+          if (height < 0.0 || !seen.insert(cell_key(x, y, z))) continue;
+          if (image.is_blocked(q)) continue;
           if (height >= depth || found >= max_points) return true;
-          open.push({height, found++, {x, y, z}});
+          open.push_back({height, found++, {x, y, z}});
+          std::push_heap(open.begin(), open.end());
         }
   }
   return false;

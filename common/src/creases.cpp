@@ -166,41 +166,41 @@ class CreaseMaker {
   // Whether every face's normal lies within half the edge angle of their
   // mean: then no two are the edge angle apart (most vertices; a test in
   // one pass over the faces before the seeds' pairs).
-  bool all_within_half_an_edge_angle(const std::vector<int>& faces) const {
+  bool all_within_half_an_edge_angle(const std::vector<FaceSample>& faces) const {
     Vec3 mean = Vec3::Zero();
-    for (int f : faces) mean += sample(f).normal;
+    for (const FaceSample& f : faces) mean += f.normal;
     if (!(mean.norm() > 0.0)) return false;
     mean.normalize();
-    for (int f : faces)
-      if (sample(f).normal.dot(mean) < cos_half_edge_) return false;
+    for (const FaceSample& f : faces)
+      if (f.normal.dot(mean) < cos_half_edge_) return false;
     return true;
   }
 
   // Seeds: the normal most of the faces' area agrees with (within the
   // spread), then the one most agree with among the faces at least the edge
   // angle from it, then one at least that far from both (a corner).
-  std::vector<Vec3> seed_normals(const std::vector<int>& faces) const {
+  std::vector<Vec3> seed_normals(const std::vector<FaceSample>& faces) const {
     // Each face's support (the area of the faces within the spread of its
     // normal) once; a seed is the best supported face apart from the seeds.
     thread_local std::vector<double> support;
     support.assign(faces.size(), 0.0);
     for (std::size_t i = 0; i < faces.size(); ++i) {
-      support[i] += sample(faces[i]).area;
+      support[i] += faces[i].area;
       for (std::size_t j = i + 1; j < faces.size(); ++j)
-        if (sample(faces[i]).normal.dot(sample(faces[j]).normal) >= cos_spread_) {
-          support[i] += sample(faces[j]).area;
-          support[j] += sample(faces[i]).area;
+        if (faces[i].normal.dot(faces[j].normal) >= cos_spread_) {
+          support[i] += faces[j].area;
+          support[j] += faces[i].area;
         }
     }
     std::vector<Vec3> seeds;
     for (int k = 0; k < 3; ++k) {
       double best = 0.0;
-      int seed = -1;
+      int seed = -1;  // index into faces
       Vec3 out_of_plane = Vec3::Zero();
       if (seeds.size() == 2) out_of_plane = seeds[0].cross(seeds[1]).normalized();
       for (std::size_t i = 0; i < faces.size(); ++i) {
         if (support[i] <= best) continue;
-        const Vec3& n = sample(faces[i]).normal;
+        const Vec3& n = faces[i].normal;
         bool apart = true;
         for (const Vec3& s : seeds) apart = apart && n.dot(s) < cos_edge_;
         // A corner's third normal stands out of the other two's plane; a
@@ -208,34 +208,38 @@ class CreaseMaker {
         if (seeds.size() == 2) apart = apart && std::abs(n.dot(out_of_plane)) >= kCornerOutOfPlane;
         if (!apart) continue;
         best = support[i];
-        seed = faces[i];
+        seed = static_cast<int>(i);
       }
       if (seed < 0) break;
-      seeds.push_back(sample(seed).normal);
+      seeds.push_back(faces[static_cast<std::size_t>(seed)].normal);
     }
     return seeds;
   }
 
   LocalPlanes planes_at(Mesh::VertexHandle v) const {
+    // The valid samples of the faces around, copied side by side (in face
+    // order) for the loops below, which visit each many times.
     thread_local std::vector<int> near, around;
+    thread_local std::vector<FaceSample> faces;
     vertices_within(mesh_, v, o_.rings, near);
     faces_around(mesh_, near, around);
-    std::vector<int> faces;
+    faces.clear();
     for (int f : around)
-      if (sample(f).valid) faces.push_back(f);
+      if (sample(f).valid) faces.push_back(sample(f));
     if (faces.size() < 4 || all_within_half_an_edge_angle(faces)) return {};
     std::vector<Vec3> normals = seed_normals(faces);
     if (normals.size() < 2) return {};
     // Members by angle to each normal; each normal then the area-weighted
     // mean of its members', twice. A third group needs two faces of its
     // own, else its seed was a face across the edge.
-    std::vector<int> member(faces.size(), -1);
+    thread_local std::vector<int> member;
+    member.assign(faces.size(), -1);
     for (int round = 0; round < 2; ++round) {
       for (std::size_t i = 0; i < faces.size(); ++i) {
         member[i] = -1;
         double best = cos_spread_;
         for (std::size_t k = 0; k < normals.size(); ++k) {
-          const double c = sample(faces[i]).normal.dot(normals[k]);
+          const double c = faces[i].normal.dot(normals[k]);
           if (c >= best) {
             best = c;
             member[i] = static_cast<int>(k);
@@ -250,7 +254,7 @@ class CreaseMaker {
       for (std::size_t k = 0; k < normals.size(); ++k) {
         Vec3 sum = Vec3::Zero();
         for (std::size_t i = 0; i < faces.size(); ++i)
-          if (member[i] == static_cast<int>(k)) sum += sample(faces[i]).area * sample(faces[i]).normal;
+          if (member[i] == static_cast<int>(k)) sum += faces[i].area * faces[i].normal;
         if (!(sum.norm() > 0.0)) return {};
         normals[k] = sum.normalized();
       }
@@ -263,14 +267,14 @@ class CreaseMaker {
       int count = 0;
       for (std::size_t i = 0; i < faces.size(); ++i)
         if (member[i] == static_cast<int>(k)) {
-          sum += sample(faces[i]).area * normals[k].dot(sample(faces[i]).crossing);
-          w += sample(faces[i]).area;
+          sum += faces[i].area * normals[k].dot(faces[i].crossing);
+          w += faces[i].area;
           ++count;
         }
       if (count < 2) return {};
       const Plane plane = fit_plane(faces, member, static_cast<int>(k), Plane{normals[k], sum / w});
       for (std::size_t i = 0; i < faces.size(); ++i)
-        if (member[i] == static_cast<int>(k) && std::abs(plane.distance(sample(faces[i]).crossing)) > o_.flatness * voxel_)
+        if (member[i] == static_cast<int>(k) && std::abs(plane.distance(faces[i].crossing)) > o_.flatness * voxel_)
           return {};
       out.planes.push_back(plane);
     }
@@ -330,20 +334,20 @@ class CreaseMaker {
   // where the fit's faces cross the rounded surface, and a lean of 3
   // degrees over the two rings puts the edge 0.15 voxel off. The faces'
   // mean plane (`guess`) when the crossings lie on a line.
-  Plane fit_plane(const std::vector<int>& faces, const std::vector<int>& member, int k, const Plane& guess) const {
+  Plane fit_plane(const std::vector<FaceSample>& faces, const std::vector<int>& member, int k, const Plane& guess) const {
     Vec3 centre = Vec3::Zero();
     double w = 0.0;
     for (std::size_t i = 0; i < faces.size(); ++i)
       if (member[i] == k) {
-        centre += sample(faces[i]).area * sample(faces[i]).crossing;
-        w += sample(faces[i]).area;
+        centre += faces[i].area * faces[i].crossing;
+        w += faces[i].area;
       }
     centre /= w;
     Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
     for (std::size_t i = 0; i < faces.size(); ++i)
       if (member[i] == k) {
-        const Vec3 d = sample(faces[i]).crossing - centre;
-        scatter += sample(faces[i]).area * d * d.transpose();
+        const Vec3 d = faces[i].crossing - centre;
+        scatter += faces[i].area * d * d.transpose();
       }
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(scatter);
     // Spread in two directions (not a line of crossings): the smallest
