@@ -740,7 +740,14 @@ TEST(Fuzz, AFileIsReadByTheReaderItsExtensionNames) {
   const fs::path dir = work_dir();
   write(small_volume(false).GetPointer(), dir / "v.nrrd");
   fs::copy_file(dir / "v.nrrd", dir / "nrrd-named.mha");
-  expect_refused(dir / "nrrd-named.mha", {"nrrd-named.mha", "not a readable image of the format its name gives"});
+  expect_refused(dir / "nrrd-named.mha", {"nrrd-named.mha", "not a readable image of the format its name gives",
+                                           "starts like a NRRD file", "rename it .nrrd"});
+  // corpus crash_mha_starting_nrrd: such a file went past the MetaImage
+  // checks (it looked like NRRD) to MetaIO, which read past the bytes above
+  // 0x7e of its data file's name.
+  write_text(dir / "nrrd-magic.mha",
+             "NRRDObjectType = Image\nNDims = 3\nDimSize = 5 4 3\nElementDataFile = \x8d\x8d.raw\n");
+  expect_refused(dir / "nrrd-magic.mha", {"nrrd-magic.mha", "starts like a NRRD file"});
   const auto slices = write_dicom_series(small_volume(false).GetPointer(), dir / "dicom");
   fs::copy_file(slices.front(), dir / "dicom-named.nrrd");
   expect_refused(dir / "dicom-named.nrrd", {"not a readable image of the format its name gives"});
