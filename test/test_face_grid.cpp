@@ -213,3 +213,21 @@ TEST(FaceGrid, refresh_after_moves_and_splits_finds_every_face_a_rebuild_would) 
     }
   }
 }
+
+// The walk's cell set (cell_lists.h): against std::set over passes of
+// random keys, with growth inside a pass and passes of every size after it.
+TEST(CellSet, each_pass_holds_exactly_the_cells_added_in_it) {
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int> coordinate(-40, 40);
+  gdm::CellSet cells;
+  for (int pass = 0; pass < 60; ++pass) {
+    cells.start_pass();
+    std::set<gdm::CellKey> truth;
+    const int adds = pass % 3 == 0 ? 5000 : 30;  // every third pass grows the table
+    for (int k = 0; k < adds; ++k) {
+      const gdm::CellKey key = gdm::cell_key(coordinate(rng), coordinate(rng), coordinate(rng) / 8);
+      ASSERT_EQ(cells.insert(key), truth.insert(key).second) << "pass " << pass << " add " << k;
+    }
+    for (gdm::CellKey key : truth) ASSERT_FALSE(cells.insert(key)) << "pass " << pass;
+  }
+}

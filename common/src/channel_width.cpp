@@ -3,10 +3,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdint>
 #include <vector>
 
-#include "gdm/cell_hash.h"
+#include "gdm/cell_lists.h"
 
 namespace gdm {
 
@@ -36,59 +35,9 @@ double free_run(const ImageEvent& image, const Vec3& p, const Vec3& d, double st
   return std::min(t, limit + step) - 0.5 * step;
 }
 
-// The lattice offsets one walk of free_room_reaches has seen: open
-// addressing in a table kept per thread, each entry stamped with the walk it
-// belongs to, so a walk starts without clearing or allocating (the walks are
-// short and many: a std::unordered_set's allocations were most of their
-// time, issue 17).
-class SeenOffsets {
- public:
-  void start() {
-    if (table_.empty()) table_.resize(256);
-    if (++stamp_ == 0) {
-      for (Entry& e : table_) e.stamp = 0;
-      stamp_ = 1;
-    }
-    size_ = 0;
-  }
-  // Whether key was not seen before in this walk (it is now).
-  bool insert(CellKey key) {
-    if (2 * (size_ + 1) > table_.size()) grow();
-    const std::size_t mask = table_.size() - 1;
-    for (std::size_t i = slot(key);; i = (i + 1) & mask) {
-      Entry& e = table_[i];
-      if (e.stamp != stamp_) {
-        e = {key, stamp_};
-        ++size_;
-        return true;
-      }
-      if (e.key == key) return false;
-    }
-  }
-
- private:
-  struct Entry {
-    CellKey key = 0;
-    std::uint32_t stamp = 0;
-  };
-  std::size_t slot(CellKey key) const {
-    return static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> 40) & (table_.size() - 1);
-  }
-  void grow() {
-    std::vector<Entry> old(table_.size() * 2);
-    old.swap(table_);
-    size_ = 0;
-    for (const Entry& e : old)
-      if (e.stamp == stamp_) insert(e.key);
-  }
-  std::vector<Entry> table_;
-  std::uint32_t stamp_ = 0;
-  std::size_t size_ = 0;
-};
-
 // A walk's storage, one per thread and kept (the walks are many).
 struct WalkScratch {
-  SeenOffsets seen;
+  CellSet seen;  // lattice offsets from the walk's start (cell_key)
   struct Open {
     double height;
     std::size_t order;
@@ -137,8 +86,8 @@ bool free_room_reaches(const ImageEvent& image, const Vec3& start, const Vec3& a
   const Vec3 step = 0.5 * spacing;
   // Lattice offsets from start, one key each (cell_hash.h).
   WalkScratch& scratch = walk_scratch();
-  SeenOffsets& seen = scratch.seen;
-  seen.start();
+  CellSet& seen = scratch.seen;
+  seen.start_pass();
   seen.insert(cell_key(0, 0, 0));
   // The walk goes deepest point first (ties: the point found first): where
   // the room reaches the depth it gets there in a few steps instead of

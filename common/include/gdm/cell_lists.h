@@ -1,14 +1,23 @@
-// Index lists per grid cell in an open-addressed hash table: the face grid's
-// storage (face_grid.h).
+// Grid cells in open-addressed hash tables: index lists per cell (the face
+// grid's storage, face_grid.h) and a set of cells (the free-room walk's,
+// channel_width.cpp).
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <utility>
 #include <vector>
 
 #include "gdm/cell_hash.h"
 
 namespace gdm {
+
+// A key's first slot in a table of 2^bits entries (bits in [1, 63]): the top
+// bits of a multiplicative (Fibonacci) hash. Both tables below probe
+// linearly from there and stay at most half full.
+inline std::size_t cell_slot(CellKey key, int bits) {
+  return static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> (64 - bits));
+}
 
 // Linear probing over a power-of-two table kept at most half full, keys mixed
 // by a multiplicative (Fibonacci) hash. A lookup is a multiply, a shift and
@@ -53,9 +62,7 @@ class CellLists {
   static constexpr CellKey kEmpty = ~CellKey{0};
 
   std::size_t mask() const { return keys_.size() - 1; }
-  std::size_t slot(CellKey key) const {
-    return static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> shift_);
-  }
+  std::size_t slot(CellKey key) const { return cell_slot(key, 64 - shift_); }
   void grow() {
     const std::size_t capacity = keys_.empty() ? 1024 : 2 * keys_.size();
     std::vector<CellKey> keys(capacity, kEmpty);
@@ -77,6 +84,55 @@ class CellLists {
   std::vector<std::vector<int>> lists_;
   std::size_t used_ = 0;
   int shift_ = 64;
+};
+
+// A set of cells for one pass of many short ones (each free-room walk): its
+// table is kept, and each entry is stamped with the pass that added it, so a
+// pass starts by counting the stamp up instead of clearing or allocating
+// (std::unordered_set's allocations were most of the walks' time, issue 17).
+class CellSet {
+ public:
+  // Empties the set (its storage stays).
+  void start_pass() {
+    if (table_.empty()) resize(8);
+    if (++stamp_ == 0) {
+      for (Entry& e : table_) e.stamp = 0;
+      stamp_ = 1;
+    }
+    used_ = 0;
+  }
+  // Adds key; false when it was in the set already.
+  bool insert(CellKey key) {
+    if (2 * (used_ + 1) > table_.size()) resize(bits_ + 1);
+    for (std::size_t i = cell_slot(key, bits_);; i = (i + 1) & (table_.size() - 1)) {
+      Entry& e = table_[i];
+      if (e.stamp != stamp_) {
+        e = {key, stamp_};
+        ++used_;
+        return true;
+      }
+      if (e.key == key) return false;
+    }
+  }
+
+ private:
+  struct Entry {
+    CellKey key = 0;
+    std::uint32_t stamp = 0;  // the pass that added it; another pass's entry is a free slot
+  };
+  void resize(int bits) {
+    std::vector<Entry> old(std::size_t{1} << bits);
+    old.swap(table_);
+    bits_ = bits;
+    used_ = 0;
+    for (const Entry& e : old)
+      if (e.stamp == stamp_ && stamp_ != 0) insert(e.key);
+  }
+
+  std::vector<Entry> table_;
+  int bits_ = 0;
+  std::uint32_t stamp_ = 0;
+  std::size_t used_ = 0;
 };
 
 }  // namespace gdm
