@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "gdm/predicates.h"
+#include "gdm/seed.h"
 
 namespace {
 
@@ -424,3 +425,20 @@ TEST(MeshChecks, report_line_names_every_field) {
 }
 
 }  // namespace
+
+// grow_by_rings (mesh.h) flags exactly what vertices_within finds around each
+// flagged vertex, for several rings and a scattered start.
+TEST(Mesh, grow_by_rings_flags_exactly_the_vertices_within_the_rings) {
+  const gdm::Mesh mesh = gdm::make_geodesic_sphere(gdm::Vec3(0, 0, 0), 10.0, 3);
+  std::vector<char> start(mesh.n_vertices(), 0);
+  for (std::size_t i = 0; i < start.size(); i += 97) start[i] = 1;
+  for (int rings = 0; rings <= 4; ++rings) {
+    std::vector<char> expected(mesh.n_vertices(), 0);
+    for (std::size_t i = 0; i < start.size(); ++i)
+      if (start[i])
+        for (int w : gdm::vertices_within(mesh, gdm::Mesh::VertexHandle(static_cast<int>(i)), rings))
+          expected[static_cast<std::size_t>(w)] = 1;
+    EXPECT_EQ(gdm::grow_by_rings(mesh, start, rings), expected) << rings << " rings";
+  }
+  EXPECT_EQ(gdm::grow_by_rings(mesh, std::vector<char>(mesh.n_vertices(), 0), 3), std::vector<char>(mesh.n_vertices(), 0));
+}

@@ -5,6 +5,7 @@
 #include <limits>
 #include <memory>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Eigenvalues>
@@ -125,20 +126,9 @@ class CreaseMaker {
 
   // The vertices within o_.rings + 1 rings of those changed this round.
   std::vector<char> near_changes() const {
-    std::vector<char> near(mesh_.n_vertices(), 0);
-    std::vector<int> frontier(changed_.begin(), changed_.end()), next;
-    for (int v : frontier) near[static_cast<std::size_t>(v)] = 1;
-    for (int ring = 0; ring <= o_.rings; ++ring) {
-      next.clear();
-      for (int v : frontier)
-        for (auto w : mesh_.vv_range(Mesh::VertexHandle(v)))
-          if (!near[static_cast<std::size_t>(w.idx())]) {
-            near[static_cast<std::size_t>(w.idx())] = 1;
-            next.push_back(w.idx());
-          }
-      frontier.swap(next);
-    }
-    return near;
+    std::vector<char> changed(mesh_.n_vertices(), 0);
+    for (int v : changed_) changed[static_cast<std::size_t>(v)] = 1;
+    return grow_by_rings(mesh_, std::move(changed), o_.rings + 1);
   }
 
  private:

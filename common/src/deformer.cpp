@@ -313,7 +313,6 @@ class Deformer {
     std::vector<char> all;    // those and the faces in contact across background
   };
   PleatMasks find_pleats() const;
-  std::vector<char> grow_by_rings(std::vector<char> flagged, int rings) const;
   Vec3 face_normal_of(Mesh::FaceHandle f) const;
   std::vector<char> in_background(const std::vector<char>& flagged) const;
   Vec3 face_centroid(Mesh::FaceHandle f) const;
@@ -1316,7 +1315,7 @@ std::size_t Deformer::smooth_pleats(int cycle) {
   c.max_normal_change = 180.0;
   // The searches run again only after collapses changed the mesh.
   PleatMasks found = find_pleats();
-  std::vector<char> edges = edges_between(grow_by_rings(found.all, 1));
+  std::vector<char> edges = edges_between(grow_by_rings(mesh_, found.all, 1));
   c.only_edges = &edges;
   std::size_t collapses = collapse_edges(c);
   if (collapses > 0) {
@@ -1341,7 +1340,7 @@ std::size_t Deformer::smooth_pleats(int cycle) {
     found = find_pleats();
   }
   collapses += spikes;
-  const std::vector<char> pleat = grow_by_rings(found.all, kPleatRings);
+  const std::vector<char> pleat = grow_by_rings(mesh_, found.all, kPleatRings);
   std::vector<Mesh::VertexHandle> vertices;
   for (auto v : mesh_.vertices())
     if (pleat[static_cast<std::size_t>(v.idx())]) vertices.push_back(v);
@@ -1387,18 +1386,6 @@ Vec3 Deformer::face_normal_of(Mesh::FaceHandle f) const {
 }
 
 Vec3 Deformer::face_centroid(Mesh::FaceHandle f) const { return to_eigen(mesh_.calc_face_centroid(f)); }
-
-// The flagged vertices and `rings` rings of neighbours around them.
-std::vector<char> Deformer::grow_by_rings(std::vector<char> flagged, int rings) const {
-  for (int ring = 0; ring < rings; ++ring) {
-    std::vector<char> next = flagged;
-    for (auto v : mesh_.vertices())
-      if (flagged[static_cast<std::size_t>(v.idx())])
-        for (auto w : mesh_.vv_range(v)) next[static_cast<std::size_t>(w.idx())] = 1;
-    flagged.swap(next);
-  }
-  return flagged;
-}
 
 // The edges (by index) whose two ends are flagged.
 std::vector<char> Deformer::edges_between(const std::vector<char>& flagged) const {

@@ -52,6 +52,26 @@ inline std::vector<int> vertices_within(const Mesh& mesh, Mesh::VertexHandle v, 
   return found;
 }
 
+// `flagged` (per vertex index) grown by `rings` rings: every vertex within
+// `rings` edges of a flagged one flagged too. Ring by ring from the last
+// ring's new vertices only.
+inline std::vector<char> grow_by_rings(const Mesh& mesh, std::vector<char> flagged, int rings) {
+  std::vector<int> frontier, next;
+  for (std::size_t i = 0; i < flagged.size(); ++i)
+    if (flagged[i]) frontier.push_back(static_cast<int>(i));
+  for (int ring = 0; ring < rings && !frontier.empty(); ++ring) {
+    next.clear();
+    for (int v : frontier)
+      for (auto w : mesh.vv_range(Mesh::VertexHandle(v)))
+        if (!flagged[static_cast<std::size_t>(w.idx())]) {
+          flagged[static_cast<std::size_t>(w.idx())] = 1;
+          next.push_back(w.idx());
+        }
+    frontier.swap(next);
+  }
+  return flagged;
+}
+
 // The faces around any of the vertices, each once, sorted by index, into
 // `faces` (storage reused).
 inline void faces_around(const Mesh& mesh, const std::vector<int>& vertices, std::vector<int>& faces) {
