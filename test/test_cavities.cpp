@@ -250,8 +250,27 @@ TEST_P(Handles, solid_caps_each_hole_at_its_narrowest_place) {
   const Tori t = make_tori(holes, 0.01 * noise_percent, 60u + static_cast<unsigned>(holes * 10 + noise_percent));
   const Vec3 seed = t.holes.front() + Vec3(0.0, -t.R, 0.0);
   Mesh mesh = make_geodesic_sphere(seed, 1.5, 1);
+  const CavityFill fill = cavity_fill_for(mesh, t.volume, grow());  // what deform() will fill, before it runs
   const DeformResult r = deform(mesh, t.volume, grow());
   test::expect_valid_closed_surface(mesh);
+  // cavity_fill_for gives the regions deform() filled and reported (specks
+  // of noise counted apart).
+  ASSERT_TRUE(fill.applied);
+  std::vector<Cavity> reported;
+  std::size_t specks = 0;
+  for (const Cavity& c : fill.cavities) {
+    if (c.voxels >= kCavitySpeckVoxels)
+      reported.push_back(c);
+    else
+      ++specks;
+  }
+  EXPECT_EQ(specks, r.cavity_specks);
+  ASSERT_EQ(reported.size(), r.filled_regions.size());
+  for (std::size_t i = 0; i < reported.size(); ++i) {
+    EXPECT_EQ(reported[i].kind, r.filled_regions[i].kind);
+    EXPECT_EQ(reported[i].voxels, r.filled_regions[i].voxels);
+    EXPECT_EQ(reported[i].centre, r.filled_regions[i].centre);
+  }
   const double contacts = contact_area(mesh, t.volume.voxel_size());
   for (const auto& line : describe_contacts(find_self_contacts(mesh, t.volume.voxel_size()))) std::printf("  %s\n", line.c_str());
   if (std::getenv("GDM_TEST_DUMP")) write_mesh(mesh, "/tmp/handles_" + std::to_string(holes) + "_" + std::to_string(noise_percent) + ".ply");

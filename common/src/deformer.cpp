@@ -1778,6 +1778,13 @@ CoarseStart grow_coarse_first(Mesh& mesh, const Volume& grow_in, const Volume& i
   return start;
 }
 
+CavityFill cavity_fill_for(const Mesh& seed, const Volume& volume, const DeformOptions& requested) {
+  validate(requested, volume);
+  const DeformOptions options = growth_schedule(requested);
+  const PassageGate gate = gate_for(seed, volume, options);
+  return cavities_for(seed, gate.applied ? gate.volume : volume, options);
+}
+
 DeformResult deform(Mesh& mesh, const Volume& volume, const DeformOptions& requested, const DeformObserver& observer) {
   validate(requested, volume);
   const DeformOptions options = growth_schedule(requested);

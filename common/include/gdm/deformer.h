@@ -226,6 +226,13 @@ std::string gap_summary(const DeformResult& result);
 // 1498 obtained (1 subdivision, 2562 collapses)". Empty when it was off.
 std::string budget_summary(const DeformResult& result);
 
+// The cavity fill deform() makes before a model grows from `seed` with
+// `options` (cavities.h; on the volume as the gap gate leaves it when a gap
+// is set): its regions, and the volume with them filled (`applied` false:
+// nothing filled, or fill_cavities off). For tools that measure a model
+// against what it fills on purpose, such as the benchmark study.
+CavityFill cavity_fill_for(const Mesh& seed, const Volume& volume, const DeformOptions& options);
+
 // What the cavity fill did, for logs: "cavities: 2 enclosed regions of
 // background filled (1,234 voxels, 1234 mm^3; the largest around (12.5, 40,
 // 8) mm): the model is the object's outer surface", with the pockets filled

@@ -114,9 +114,9 @@ struct Row {
   int runs = 0;
   ErrorStats error;     // model -> truth
   double coverage = NAN;  // max truth -> model, voxels
-  // Our defaults on scans: the same over the truth's points more than two
-  // voxels from what the model fills on purpose and reports (cavities.h);
-  // NAN for other rows. `filled_regions`: how many it reports (0: none).
+  // Our defaults on scans: the same over the truth's points on the seed's
+  // object more than two voxels from what the model fills on purpose and
+  // reports (cavities.h); NAN for other rows. `filled_regions`: how many it reports (0: none).
   double coverage_outside_filled = NAN;
   std::size_t filled_regions = 0;
   double missed = NAN;    // share of the truth's sample points farther than a voxel from the model
@@ -168,8 +168,8 @@ PeerResult repeat(const Settings& s, int runs, F once, std::vector<double>& time
   return last;
 }
 
-PeerResult run_gdm(const Case& c, const gdm::Volume& volume, const Method& m, int threads, double lod = 0.0,
-                   std::size_t face_budget = 0) {
+// The options our GDM row `m` runs with on case c.
+gdm::DeformOptions gdm_options(const Case& c, const Method& m, int threads) {
   gdm::DeformOptions o;
   o.threshold = c.threshold;
   o.polarity = c.object_brighter ? gdm::Polarity::object_brighter : gdm::Polarity::object_darker;
@@ -180,6 +180,12 @@ PeerResult run_gdm(const Case& c, const gdm::Volume& volume, const Method& m, in
   // it stops when it reaches the volume's border instead of filling the outside.
   if (m.without_gap) o.stop_at_border = true;
   if (m.configure) m.configure(o);
+  return o;
+}
+
+PeerResult run_gdm(const Case& c, const gdm::Volume& volume, const Method& m, int threads, double lod = 0.0,
+                   std::size_t face_budget = 0) {
+  gdm::DeformOptions o = gdm_options(c, m, threads);
   if (lod > 0.0) o.lod_face_area = lod;
   o.face_budget = face_budget;
   gdm::Mesh mesh = seed_mesh(c, m.seed_level);
@@ -366,33 +372,21 @@ void evaluate(Row& row, const Case& c, PeerResult r, const Truth& truth, const g
 std::string fmt(const char* f, double v);
 
 // Scans: the largest distance from the truth to our model over the truth's
-// points away from what the model fills on purpose and reports (cavities.h:
-// enclosed cavities, pockets behind narrow openings, membranes across
-// handles; the report gives each one's kind and place). The fill is the one
-// our defaults make from the same seed (the deformer's own, recomputed here
-// with its options); a truth point within two voxels of a filled voxel is
-// left out. Tells a surface the model bridges by design (its topology
+// points on the seed's object and away from what the model fills on purpose
+// and reports (cavities.h: enclosed cavities, pockets behind narrow
+// openings, membranes across handles; the report gives each one's kind and
+// place). The fill is the one deform() makes from the same seed
+// (cavity_fill_for); a truth point within two voxels of a filled voxel, or
+// farther than that from the seed's object, is left out. Tells a surface the model bridges by design (its topology
 // kept to genus 0, as the command line says) from one it misses.
 void measure_coverage_outside_filled(Row& row, const Case& c, const gdm::Volume& volume, const Method& m,
                                      const Truth& truth) {
   if (truth.points.empty() || row.surface.faces.empty()) return;
-  const gdm::DeformOptions defaults;
-  gdm::CavityOptions o;
   const gdm::Mesh seed = seed_mesh(c, m.seed_level);
-  gdm::Vec3 centroid = gdm::Vec3::Zero();
-  for (auto v : seed.vertices()) {
-    o.seed_points.push_back(gdm::to_eigen(seed.point(v)));
-    centroid += o.seed_points.back();
-  }
-  o.seed_points.push_back(centroid / static_cast<double>(std::max<std::size_t>(1, seed.n_vertices())));
-  o.every_component = c.mode == gdm::Mode::shrink;
-  o.threshold = c.threshold;
-  o.background_is_brighter = !c.object_brighter;
-  o.gap = m.without_gap ? 0.0 : c.gap;
-  o.opening = defaults.cavity_opening;
-  o.cap_handles = defaults.cap_handles;
-  const gdm::CavityFill fill = gdm::fill_cavities(volume, o);
-  row.filled_regions = fill.applied ? fill.cavities.size() : 0;
+  const gdm::CavityFill fill = gdm::cavity_fill_for(seed, volume, gdm_options(c, m, 0));
+  row.filled_regions = 0;  // as the report lists them: specks of noise apart (they are filled all the same)
+  if (fill.applied)
+    for (const gdm::Cavity& r : fill.cavities) row.filled_regions += r.voxels >= gdm::kCavitySpeckVoxels;
   const gdm::Index3& n = volume.dims();
   const std::vector<float>& before = volume.values();
   const std::vector<float>& after = fill.applied ? fill.volume.values() : before;
@@ -410,7 +404,8 @@ void measure_coverage_outside_filled(Row& row, const Case& c, const gdm::Volume&
   const auto object_side = [&](std::size_t at) {
     return c.object_brighter ? after[at] > c.threshold : after[at] < c.threshold;
   };
-  for (const gdm::Vec3& q : o.seed_points) {
+  for (auto v : seed.vertices()) {
+    const gdm::Vec3 q = gdm::to_eigen(seed.point(v));
     const gdm::Vec3 ci = volume.to_continuous_index(q);
     const int i = static_cast<int>(std::lround(ci[0])), j = static_cast<int>(std::lround(ci[1])),
               k = static_cast<int>(std::lround(ci[2]));
