@@ -26,6 +26,7 @@
 #include "gdm/cavities.h"
 #include "gdm/deformer.h"
 #include "gdm/errors.h"
+#include "gdm/phantoms.h"
 #include "gdm/self_contact.h"
 #include "metrics.h"
 #include "peer_cgal.h"
@@ -396,37 +397,21 @@ void measure_coverage_outside_filled(Row& row, const Case& c, const gdm::Volume&
   };
   const auto inside = [&](int i, int j, int k) { return i >= 0 && j >= 0 && k >= 0 && i < n[0] && j < n[1] && k < n[2]; };
   // The seed's object: the 6-connected region on the object's side of the
-  // threshold (with what is filled) holding the seed's points; the truth of
+  // threshold (with what is filled) holding the seed's centre; the truth of
   // a scan also holds other objects (a CT table), which no single model is
-  // meant to reach.
-  std::vector<char> object(before.size(), 0);
-  std::vector<std::size_t> queue;
-  const auto object_side = [&](std::size_t at) {
-    return c.object_brighter ? after[at] > c.threshold : after[at] < c.threshold;
-  };
-  for (auto v : seed.vertices()) {
-    const gdm::Vec3 q = gdm::to_eigen(seed.point(v));
-    const gdm::Vec3 ci = volume.to_continuous_index(q);
-    const int i = static_cast<int>(std::lround(ci[0])), j = static_cast<int>(std::lround(ci[1])),
-              k = static_cast<int>(std::lround(ci[2]));
-    if (!inside(i, j, k) || object[index(i, j, k)] || !object_side(index(i, j, k))) continue;
-    object[index(i, j, k)] = 1;
-    queue.push_back(index(i, j, k));
+  // meant to reach. region_below on the values turned over when the object
+  // is the brighter side.
+  std::vector<float> side(after);
+  double level = c.threshold;
+  if (c.object_brighter) {
+    for (float& v : side) v = -v;
+    level = -level;
   }
-  const std::size_t sy = static_cast<std::size_t>(n[0]), sz = sy * static_cast<std::size_t>(n[1]);
-  for (std::size_t head = 0; head < queue.size(); ++head) {
-    const std::size_t at = queue[head];
-    const int i = static_cast<int>(at % sy), j = static_cast<int>((at / sy) % static_cast<std::size_t>(n[1])),
-              k = static_cast<int>(at / sz);
-    const int step[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-    for (const auto& d : step) {
-      if (!inside(i + d[0], j + d[1], k + d[2])) continue;
-      const std::size_t next = index(i + d[0], j + d[1], k + d[2]);
-      if (object[next] || !object_side(next)) continue;
-      object[next] = 1;
-      queue.push_back(next);
-    }
-  }
+  const gdm::Vec3 centre = volume.to_continuous_index(gdm::Vec3(c.seed[0], c.seed[1], c.seed[2]));
+  gdm::Index3 start;
+  for (int a = 0; a < 3; ++a) start[a] = std::clamp(static_cast<int>(std::lround(centre[a])), 0, n[a] - 1);
+  const std::vector<char> object = gdm::phantoms::region_below(
+      gdm::Volume(n, std::move(side), volume.spacing(), volume.origin(), volume.direction()), start, level);
   const double voxel = c.voxel_size();
   constexpr double kReach = 2.0;  // voxels
   const gdm::Vec3 span = (kReach * voxel) * volume.spacing().cwiseInverse();  // index units per axis
