@@ -126,6 +126,7 @@ struct Row {
   Checks checks;
   std::string note;
   Surface surface;      // kept for pictures
+  std::vector<double> truth_to_model;  // per point of the truth, in its order (physical units); empty without a truth
   // Topology cases (issue 15):
   std::string truth;                     // "outer" (our solid topology) or "all" surfaces: what mean/p95 measure
   std::vector<ComponentTopology> parts;  // per component, largest extent first
@@ -358,12 +359,15 @@ void evaluate(Row& row, const Case& c, PeerResult r, const Truth& truth, const g
     SurfaceDistance model(r.surface);
     double worst = 0.0;
     std::size_t far = 0;
-    if (!model.empty())
+    if (!model.empty()) {
+      row.truth_to_model.reserve(truth.points.size());
       for (const Point& p : truth.points) {
         const double d = model(p);
+        row.truth_to_model.push_back(d);
         worst = std::max(worst, d);
         if (d > voxel) ++far;
       }
+    }
     row.coverage = worst / voxel;
     row.missed = static_cast<double>(far) / static_cast<double>(truth.points.size());
   }
@@ -382,7 +386,7 @@ std::string fmt(const char* f, double v);
 // kept to genus 0, as the command line says) from one it misses.
 void measure_coverage_outside_filled(Row& row, const Case& c, const gdm::Volume& volume, const Method& m,
                                      const Truth& truth) {
-  if (truth.points.empty() || row.surface.faces.empty()) return;
+  if (row.truth_to_model.size() != truth.points.size()) return;  // evaluate() measured nothing
   const gdm::Mesh seed = seed_mesh(c, m.seed_level);
   const gdm::CavityFill fill = gdm::cavity_fill_for(seed, volume, gdm_options(c, m, 0));
   row.filled_regions = 0;  // as the report lists them: specks of noise apart (they are filled all the same)
@@ -415,11 +419,10 @@ void measure_coverage_outside_filled(Row& row, const Case& c, const gdm::Volume&
   const double voxel = c.voxel_size();
   constexpr double kReach = 2.0;  // voxels
   const gdm::Vec3 span = (kReach * voxel) * volume.spacing().cwiseInverse();  // index units per axis
-  SurfaceDistance model(row.surface);
-  if (model.empty()) return;
   double worst = 0.0;
   gdm::Vec3 where = gdm::Vec3::Zero();
-  for (const Point& p : truth.points) {
+  for (std::size_t t = 0; t < truth.points.size(); ++t) {
+    const Point& p = truth.points[t];
     const gdm::Vec3 x(p[0], p[1], p[2]);
     const gdm::Vec3 ci = volume.to_continuous_index(x);
     bool near_fill = false, near_object = false;
@@ -432,7 +435,7 @@ void measure_coverage_outside_filled(Row& row, const Case& c, const gdm::Volume&
           near_object = near_object || object[at];
         }
     if (near_fill || !near_object) continue;
-    const double d = model(p);
+    const double d = row.truth_to_model[t];
     if (d > worst) {
       worst = d;
       where = x;
@@ -508,6 +511,7 @@ CaseResult run_case(const Settings& s, const Case& c, const std::vector<Method>&
         if (s.dump) write_off(fs::path(s.out) / "surfaces" / (c.id + "-" + m.id + ".off"), r.surface);
         evaluate(row, c, std::move(r), truth, volume);
         if (m.id == "gdm" && c.group == "scan") measure_coverage_outside_filled(row, c, volume, m, truth);
+        std::vector<double>().swap(row.truth_to_model);  // a scan's truth has millions of points; rows outlive the case
       }
     } catch (const std::exception& e) {
       row.ran = false;
