@@ -3,10 +3,17 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdlib>
+#include <map>
 #include <vector>
 
+#include "gdm/errors.h"
+#include "gdm/mesh_order.h"
 #include "gdm/predicates.h"
+#include "gdm/resampler.h"
 #include "gdm/seed.h"
 
 namespace {
@@ -441,4 +448,102 @@ TEST(Mesh, grow_by_rings_flags_exactly_the_vertices_within_the_rings) {
     EXPECT_EQ(gdm::grow_by_rings(mesh, start, rings), expected) << rings << " rings";
   }
   EXPECT_EQ(gdm::grow_by_rings(mesh, std::vector<char>(mesh.n_vertices(), 0), 3), std::vector<char>(mesh.n_vertices(), 0));
+}
+
+namespace {
+
+// Each face as its three points, rotated to start at the smallest (so the
+// orientation is kept), with the generation of each point.
+using Corner = std::array<double, 3>;
+std::map<std::array<Corner, 3>, int> oriented_faces(const Mesh& mesh) {
+  std::map<std::array<Corner, 3>, int> faces;
+  for (auto f : mesh.faces()) {
+    std::array<Corner, 3> c;
+    int k = 0;
+    for (auto v : mesh.fv_range(f)) {
+      const auto p = mesh.point(v);
+      c[static_cast<std::size_t>(k++)] = {p[0], p[1], p[2]};
+    }
+    std::rotate(c.begin(), std::min_element(c.begin(), c.end()), c.end());
+    ++faces[c];
+  }
+  return faces;
+}
+
+std::map<Corner, int> generation_by_point(const Mesh& mesh) {
+  std::map<Corner, int> g;
+  const auto h = gdm::find_generation_property(mesh);
+  for (auto v : mesh.vertices()) g[{mesh.point(v)[0], mesh.point(v)[1], mesh.point(v)[2]}] = mesh.property(h, v);
+  return g;
+}
+
+// Mean index distance between the ends of an edge.
+double mean_edge_span(const Mesh& mesh) {
+  double sum = 0.0;
+  for (auto e : mesh.edges()) {
+    const auto h = mesh.halfedge_handle(e, 0);
+    sum += std::abs(mesh.from_vertex_handle(h).idx() - mesh.to_vertex_handle(h).idx());
+  }
+  return sum / static_cast<double>(mesh.n_edges());
+}
+
+// A sphere refined the way a deforming model is: 1-to-4 subdivisions and
+// splits of large faces, each appending its vertices (with a generation).
+Mesh refined_sphere() {
+  Mesh mesh = gdm::make_geodesic_sphere(Vec3(3.0, -2.0, 1.0), 20.0, 2);
+  gdm::generation_property(mesh);
+  gdm::subdivide_all(mesh, 1);
+  gdm::subdivide_all(mesh, 2);
+  gdm::split_large_faces(mesh, 0.2, 3);
+  return mesh;
+}
+
+}  // namespace
+
+// sort_spatially (mesh_order.h) renumbers a mesh without changing it: the
+// same oriented faces on the same points, each point with its generation,
+// and the same measures; the returned indices say where each vertex went.
+TEST(MeshOrder, sorting_keeps_every_face_its_orientation_and_every_generation) {
+  for (Mesh mesh : {refined_sphere(), make_torus(3.0, 1.0, 48, 24)}) {
+    if (!gdm::find_generation_property(mesh).is_valid()) gdm::generation_property(mesh);
+    const Mesh before = mesh;
+    const std::vector<int> to = gdm::sort_spatially(mesh, 0.5);
+    ASSERT_EQ(to.size(), before.n_vertices());
+    EXPECT_EQ(mesh.n_vertices(), before.n_vertices());
+    EXPECT_EQ(mesh.n_faces(), before.n_faces());
+    EXPECT_EQ(oriented_faces(mesh), oriented_faces(before));
+    EXPECT_EQ(generation_by_point(mesh), generation_by_point(before));
+    for (auto v : before.vertices()) EXPECT_EQ(mesh.point(Mesh::VertexHandle(to[static_cast<std::size_t>(v.idx())])), before.point(v));
+    const gdm::MeshReport a = gdm::measure(before), b = gdm::measure(mesh);
+    EXPECT_TRUE(b.closed);
+    EXPECT_TRUE(b.two_manifold);
+    EXPECT_EQ(b.genus, a.genus);
+    EXPECT_EQ(b.self_intersections, 0u);
+    EXPECT_NEAR(b.volume, a.volume, 1e-9 * std::abs(a.volume));
+  }
+}
+
+// What it is for: after subdivisions append their midpoints, the two ends of
+// an edge lie far apart in the arrays; sorted, they lie close. Sorting a
+// sorted mesh changes nothing (the order depends on the points alone).
+TEST(MeshOrder, neighbours_end_up_near_each_other_and_a_sorted_mesh_stays_as_it_is) {
+  Mesh mesh = refined_sphere();
+  const double scattered = mean_edge_span(mesh);
+  gdm::sort_spatially(mesh, 1.0);
+  const double sorted = mean_edge_span(mesh);
+  EXPECT_LT(sorted, 0.25 * scattered) << scattered << " -> " << sorted;
+  const Mesh once = mesh;
+  const std::vector<int> to = gdm::sort_spatially(mesh, 1.0);
+  for (std::size_t i = 0; i < to.size(); ++i) EXPECT_EQ(to[i], static_cast<int>(i));
+  EXPECT_EQ(oriented_faces(mesh), oriented_faces(once));
+  for (auto f : mesh.faces()) {  // the same faces in the same order
+    auto a = mesh.cfv_iter(f);
+    auto b = once.cfv_iter(f);
+    for (int k = 0; k < 3; ++k, ++a, ++b) EXPECT_EQ(a->idx(), b->idx());
+  }
+}
+
+TEST(MeshOrder, a_cell_that_is_not_a_positive_length_is_refused) {
+  Mesh mesh = gdm::make_geodesic_sphere(Vec3(0, 0, 0), 5.0, 1);
+  for (double cell : {0.0, -1.0, std::nan("")}) EXPECT_THROW(gdm::sort_spatially(mesh, cell), gdm::InvalidOption);
 }
