@@ -566,11 +566,6 @@ std::vector<int> Deformer::evaluate_active(std::vector<StepResult>& steps) {
   return active;
 }
 
-// Whether the guard allows moving v to p. A move refused before is refused
-// again without a check when it goes to the same point and neither v, its
-// neighbours nor the face it would have cut were touched since (moved, split
-// or flipped: touch()): the guard would decide on the same triangles. Its
-// answer is a yes or no over them, so the outcome is the guard's own.
 // Beyond the paper (issue 17): a growing model's edges lengthen, except
 // where vertices pile up. At the tip of a spike of the object (seen on the
 // CT head phantom's 5 mm slices) the image drew every vertex the local
@@ -594,6 +589,11 @@ bool Deformer::piles_onto_a_neighbour(Mesh::VertexHandle v, const Vec3& p) const
   return false;
 }
 
+// Whether the guard allows moving v to p. A move refused before is refused
+// again without a check when it goes to the same point and neither v, its
+// neighbours nor the face it would have cut were touched since (moved, split
+// or flipped: touch()): the guard would decide on the same triangles. Its
+// answer is a yes or no over them, so the outcome is the guard's own.
 bool Deformer::guard_allows(Mesh::VertexHandle v, const Vec3& p) {
   const auto i = static_cast<std::size_t>(v.idx());
   if (refusal_holds(v, p)) {

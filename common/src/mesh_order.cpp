@@ -1,7 +1,5 @@
 #include "gdm/mesh_order.h"
 
-#include "gdm/errors.h"
-
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -10,6 +8,7 @@
 #include <numeric>
 #include <string>
 
+#include "gdm/errors.h"
 
 namespace gdm {
 
