@@ -205,13 +205,15 @@ Scratch& scratch() {
   return s;
 }
 
-// The unit normal over the faces within `rings` rings of v (section 7).
-Vec3 smoothed_normal(const Mesh& mesh, Mesh::VertexHandle v, int rings) {
+// The unit normal over the faces within `rings` rings of v (section 7), from
+// the faces' normals of the pass (`face_normals`, face_normal() of each:
+// every face is in the sums of a dozen vertices).
+Vec3 smoothed_normal(const Mesh& mesh, Mesh::VertexHandle v, int rings, const std::vector<Vec3>& face_normals) {
   Scratch& s = scratch();
   vertices_within(mesh, v, rings - 1, s.vertices);
   faces_around(mesh, s.vertices, s.faces);
   Vec3 n = Vec3::Zero();
-  for (int f : s.faces) n += face_normal(mesh, Mesh::FaceHandle(f));
+  for (int f : s.faces) n += face_normals[static_cast<std::size_t>(f)];
   const double len = n.norm();
   return len > 0.0 ? Vec3(n / len) : Vec3::Zero();
 }
@@ -278,6 +280,12 @@ FitResult fit_to_threshold(Mesh& mesh, const Volume& volume, double threshold, c
   std::unique_ptr<IntersectionGuard> guard;
   std::vector<double> offset(mesh.n_vertices(), 0.0), smoothed;
   std::vector<Vec3> normal(mesh.n_vertices(), Vec3::Zero());
+  std::vector<Vec3> face_normals;  // per pass: face_normal() of every face
+  // Per vertex, the face that refused its last move (-1: none): the guard
+  // tries it first. A vertex pressed against another sheet of the model is
+  // refused by the same face at its half and quarter steps and in the next
+  // passes; the answer does not depend on the hint (intersection_guard.h).
+  std::vector<int> blocker(mesh.n_vertices(), -1);
   std::vector<char> has(mesh.n_vertices(), 0);
   std::vector<double> own(mesh.n_vertices(), 0.0);  // the vertex's own crossing distance (NaN: none)
   // Only vertices near a move are evaluated again: the rest already fit.
@@ -287,6 +295,12 @@ FitResult fit_to_threshold(Mesh& mesh, const Volume& volume, double threshold, c
   // moves of the last passes were most of the fit's time).
   const double still = kStill * voxel;
   for (int pass = 0; pass < o.passes; ++pass) {
+    face_normals.resize(mesh.n_faces());
+    parallel_for(mesh.n_faces(), threads, [&](std::size_t f) {
+      const Mesh::FaceHandle h(static_cast<int>(f));
+      const bool gone = mesh.has_face_status() && mesh.status(h).deleted();
+      face_normals[f] = gone ? Vec3::Zero() : face_normal(mesh, h);
+    });
     // 1. Every vertex's offset from the positions at the start of the pass:
     //    the weighted mean of the signed distances from its samples to the
     //    crossing. At the fixed point the surface around each vertex lies on
@@ -301,7 +315,7 @@ FitResult fit_to_threshold(Mesh& mesh, const Volume& volume, double threshold, c
         has[i] = 1;
         return;
       }
-      const Vec3 n = smoothed_normal(mesh, v, o.normal_rings);
+      const Vec3 n = smoothed_normal(mesh, v, o.normal_rings, face_normals);
       normal[i] = n;
       if (n.isZero()) return;
       const Vec3 p = pos(mesh, v);
@@ -421,12 +435,15 @@ FitResult fit_to_threshold(Mesh& mesh, const Volume& volume, double threshold, c
       for (int attempt = 0; attempt < 3 && !accepted; ++attempt) {
         const Vec3 q = p + (target - p) * std::ldexp(1.0, -attempt);
         if (!volume.contains(q)) continue;  // vertices stay inside the grid
-        if (!guard || guard->move_is_safe(v, q)) {
+        if (!guard || guard->move_is_safe(v, q, blocker[vi])) {
+          blocker[vi] = -1;
           mesh.set_point(v, to_point(q));
           moved[v.idx()] = (q - p).norm() > still;
           if (guard)
             for (auto f : mesh.vf_range(v)) guard->note_face(f);
           accepted = true;
+        } else {
+          blocker[vi] = guard->last_blocking_face();
         }
       }
       if (accepted)

@@ -31,20 +31,7 @@ namespace gdm {
 // v and every vertex within `rings` edges of it, each once, sorted by index
 // (rings <= 0: v alone), into `found` (whose storage is reused: the per-vertex
 // kernels call this for every vertex of every cycle).
-inline void vertices_within(const Mesh& mesh, Mesh::VertexHandle v, int rings, std::vector<int>& found) {
-  found.assign(1, v.idx());
-  std::size_t begin = 0;
-  for (int r = 0; r < rings; ++r) {
-    const std::size_t end = found.size();
-    for (std::size_t i = begin; i < end; ++i)
-      for (auto w : mesh.vv_range(Mesh::VertexHandle(found[i]))) found.push_back(w.idx());
-    std::sort(found.begin() + static_cast<long>(end), found.end());
-    found.erase(std::unique(found.begin() + static_cast<long>(end), found.end()), found.end());
-    begin = end;
-  }
-  std::sort(found.begin(), found.end());
-  found.erase(std::unique(found.begin(), found.end()), found.end());
-}
+void vertices_within(const Mesh& mesh, Mesh::VertexHandle v, int rings, std::vector<int>& found);
 
 inline std::vector<int> vertices_within(const Mesh& mesh, Mesh::VertexHandle v, int rings) {
   std::vector<int> found;
@@ -74,13 +61,7 @@ inline std::vector<char> grow_by_rings(const Mesh& mesh, std::vector<char> flagg
 
 // The faces around any of the vertices, each once, sorted by index, into
 // `faces` (storage reused).
-inline void faces_around(const Mesh& mesh, const std::vector<int>& vertices, std::vector<int>& faces) {
-  faces.clear();
-  for (int u : vertices)
-    for (auto f : mesh.vf_range(Mesh::VertexHandle(u))) faces.push_back(f.idx());
-  std::sort(faces.begin(), faces.end());
-  faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
-}
+void faces_around(const Mesh& mesh, const std::vector<int>& vertices, std::vector<int>& faces);
 
 inline std::vector<int> faces_around(const Mesh& mesh, const std::vector<int>& vertices) {
   std::vector<int> faces;

@@ -1,0 +1,78 @@
+#include "gdm/mesh.h"
+
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+
+namespace gdm {
+
+namespace {
+
+// Per-thread marks, one per vertex or face index: an element is taken once
+// when its mark equals the call's stamp. The neighbourhoods were collected
+// with their repeats and sorted, then made unique: each face of a 1-ring's
+// faces came three times, and the sort of the repeats was a twelfth of a
+// phantom's run (issue 17, perf on gdm_core_benchmark's cube). The lists
+// are the same, sorted and unique.
+struct Marks {
+  std::vector<std::uint32_t> mark;
+  std::uint32_t stamp = 0;
+
+  // A new stamp for indices below n.
+  std::uint32_t next(std::size_t n) {
+    if (mark.size() < n) mark.resize(n, 0);
+    if (++stamp == 0) {
+      std::fill(mark.begin(), mark.end(), 0);
+      stamp = 1;
+    }
+    return stamp;
+  }
+  // Whether i is new for this stamp (then marked).
+  bool take(int i, std::uint32_t s) {
+    std::uint32_t& m = mark[static_cast<std::size_t>(i)];
+    if (m == s) return false;
+    m = s;
+    return true;
+  }
+};
+
+Marks& vertex_marks() {
+  thread_local Marks m;
+  return m;
+}
+
+Marks& face_marks() {
+  thread_local Marks m;
+  return m;
+}
+
+}  // namespace
+
+void vertices_within(const Mesh& mesh, Mesh::VertexHandle v, int rings, std::vector<int>& found) {
+  found.assign(1, v.idx());
+  if (rings <= 0) return;
+  Marks& marks = vertex_marks();
+  const std::uint32_t stamp = marks.next(mesh.n_vertices());
+  marks.take(v.idx(), stamp);
+  std::size_t begin = 0;
+  for (int r = 0; r < rings; ++r) {
+    const std::size_t end = found.size();
+    for (std::size_t i = begin; i < end; ++i)
+      for (auto w : mesh.vv_range(Mesh::VertexHandle(found[i])))
+        if (marks.take(w.idx(), stamp)) found.push_back(w.idx());
+    begin = end;
+  }
+  std::sort(found.begin(), found.end());
+}
+
+void faces_around(const Mesh& mesh, const std::vector<int>& vertices, std::vector<int>& faces) {
+  faces.clear();
+  Marks& marks = face_marks();
+  const std::uint32_t stamp = marks.next(mesh.n_faces());
+  for (int u : vertices)
+    for (auto f : mesh.vf_range(Mesh::VertexHandle(u)))
+      if (marks.take(f.idx(), stamp)) faces.push_back(f.idx());
+  std::sort(faces.begin(), faces.end());
+}
+
+}  // namespace gdm
