@@ -46,6 +46,13 @@ void FaceGrid::insert_box(int face, Vec3 lo, Vec3 hi) {
   lo.array() -= margin_;
   hi.array() += margin_;
   grow_to(static_cast<std::size_t>(face) + 1);
+  // Within the box the face is listed under in every cell it touches: the
+  // cells and the union box hold it already (the sub-voxel fit registers
+  // the faces around each of its moves, most of them a fraction of the
+  // margin; each was listed again in its cells, and the lists grew).
+  if (reg_lo_[face].x() <= reg_hi_[face].x() && (lo.array() >= reg_lo_[face].array()).all() &&
+      (hi.array() <= reg_hi_[face].array()).all())
+    return;
   const bool first = !(box_lo_[face].x() <= box_hi_[face].x());
   box_lo_[face] = box_lo_[face].cwiseMin(lo);
   box_hi_[face] = box_hi_[face].cwiseMax(hi);

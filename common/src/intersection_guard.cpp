@@ -89,17 +89,6 @@ bool IntersectionGuard::move_is_safe(Mesh::VertexHandle v, const Vec3& p, int hi
   std::vector<int>& ring_faces = ring_faces_;
   ring_faces.clear();
   for (auto f : mesh_->vf_range(v)) ring_faces.push_back(f.idx());
-  for (int f : ring_faces) {
-    const Triangle before = face_triangle(f, -1, p);
-    const Triangle after = face_triangle(f, v.idx(), p);
-    const Vec3 n_before = before.normal();
-    const Vec3 n_after = after.normal();
-    if (0.5 * n_after.norm() < min_face_area_ || n_after.dot(n_before) <= 0.0) {
-      ++stats_.rejected_moves;
-      last_blocking_face_ = -1;
-      return false;
-    }
-  }
   // One grid query for the whole moved fan: every candidate face is built
   // once and tested against each fan face whose box it meets. Pairs within
   // the fan are checked too (their shared vertex is known to the predicate),
@@ -111,9 +100,20 @@ bool IntersectionGuard::move_is_safe(Mesh::VertexHandle v, const Vec3& p, int hi
   std::vector<std::pair<Vec3, Vec3>>& boxes = fan_boxes_;
   boxes.clear();
   for (int f : ring_faces) {
-    const Triangle t = face_triangle(f, v.idx(), p);
-    fan.emplace_back(t.p, t.id);
-    boxes.emplace_back(t.p[0].cwiseMin(t.p[1]).cwiseMin(t.p[2]), t.p[0].cwiseMax(t.p[1]).cwiseMax(t.p[2]));
+    const Triangle before = face_triangle(f, -1, p);
+    Triangle after = before;
+    for (int k = 0; k < 3; ++k)
+      if (after.id[k] == v.idx()) after.p[k] = p;
+    const Vec3 n_before = before.normal();
+    const Vec3 n_after = after.normal();
+    if (0.5 * n_after.norm() < min_face_area_ || n_after.dot(n_before) <= 0.0) {
+      ++stats_.rejected_moves;
+      last_blocking_face_ = -1;
+      return false;
+    }
+    fan.emplace_back(after.p, after.id);
+    boxes.emplace_back(after.p[0].cwiseMin(after.p[1]).cwiseMin(after.p[2]),
+                       after.p[0].cwiseMax(after.p[1]).cwiseMax(after.p[2]));
     lo = lo.cwiseMin(boxes.back().first);
     hi = hi.cwiseMax(boxes.back().second);
   }
@@ -121,11 +121,19 @@ bool IntersectionGuard::move_is_safe(Mesh::VertexHandle v, const Vec3& p, int hi
   // faces before it only: each pair within the fan once (the predicate's
   // answer does not depend on the order). The predicate's scale: the extent
   // of the box around both triangles.
-  const auto cuts_fan = [&](int g) {
+  // `registered`: g came from the grid. A face outside the fan lies in the
+  // box it is registered with (the moves keep it so): when that box meets no
+  // fan face's box, neither does g, and g is not built.
+  const auto cuts_fan = [&](int g, bool registered) {
+    const auto end = static_cast<std::size_t>(std::find(ring_faces.begin(), ring_faces.end(), g) - ring_faces.begin());
+    if (registered && end == ring_faces.size()) {
+      bool near = false;
+      for (std::size_t i = 0; i < end && !near; ++i) near = grid_.box_meets(g, boxes[i].first, boxes[i].second);
+      if (!near) return false;
+    }
     const Triangle t = face_triangle(g, v.idx(), p);
     const Vec3 olo = t.p[0].cwiseMin(t.p[1]).cwiseMin(t.p[2]);
     const Vec3 ohi = t.p[0].cwiseMax(t.p[1]).cwiseMax(t.p[2]);
-    const auto end = static_cast<std::size_t>(std::find(ring_faces.begin(), ring_faces.end(), g) - ring_faces.begin());
     FilteredTriangle other;
     bool built = false;
     for (std::size_t i = 0; i < end; ++i) {
@@ -145,13 +153,13 @@ bool IntersectionGuard::move_is_safe(Mesh::VertexHandle v, const Vec3& p, int hi
   // offer that face too), so the answer is the one the whole query gives.
   bool clear = true;
   if (hint >= 0 && static_cast<std::size_t>(hint) < mesh_->n_faces() &&
-      !(mesh_->has_face_status() && mesh_->status(Mesh::FaceHandle(hint)).deleted()) && cuts_fan(hint)) {
+      !(mesh_->has_face_status() && mesh_->status(Mesh::FaceHandle(hint)).deleted()) && cuts_fan(hint, false)) {
     clear = false;
     last_blocking_face_ = hint;
   }
   if (clear)
     grid_.for_each_near(lo, hi, [&](int g) {
-      if (clear && cuts_fan(g)) {
+      if (clear && cuts_fan(g, true)) {
         clear = false;
         last_blocking_face_ = g;
       }
