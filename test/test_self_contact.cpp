@@ -186,4 +186,40 @@ TEST(SelfContact, contact_flags_are_the_same_for_any_thread_count) {
   }
 }
 
+// Asked about a few faces (local refinement asks about a few hundred of a
+// large model's faces), the search looks only near them: each flagged face
+// gets the answer the search over every face gives, the others none, for
+// any thread count; with no face flagged, none is in contact.
+TEST(SelfContact, a_few_flagged_faces_get_the_answers_of_the_whole_search) {
+  const Vec3 c = shell_grid().center();
+  const Volume shell = noisy_shell();
+  const PipelineResult r = extract_surface(shell, grown_from(c + Vec3(11.0, 0.0, 0.0)));
+  ASSERT_TRUE(r.failure.empty()) << r.failure;
+  const std::size_t n = r.mesh.n_faces();
+  for (const double distance : {shell.voxel_size(), 2.5 * shell.voxel_size()}) {
+    const std::vector<char> all = contact_faces(r.mesh, distance, nullptr, 1);
+    // Every 37th face and every 5th face in contact: a few of both kinds,
+    // far fewer than a sixteenth of the faces.
+    std::vector<char> only(n, 0);
+    std::size_t in_contact = 0, flagged = 0;
+    for (std::size_t i = 0; i < n; ++i)
+      if (i % 37 == 0 || (all[i] && in_contact++ % 5 == 0)) only[i] = 1;
+    for (char f : only) flagged += f;
+    ASSERT_LT(16 * flagged, n) << "not few enough for the search near them";
+    std::size_t flagged_in_contact = 0;
+    for (std::size_t i = 0; i < n; ++i) flagged_in_contact += only[i] && all[i];
+    ASSERT_GT(flagged_in_contact, 3u) << "no flagged face in contact to compare";
+    ASSERT_LT(flagged_in_contact, flagged) << "no flagged face without contact to compare";
+    for (int threads : {1, 2, 3}) {
+      const std::vector<char> few = contact_faces(r.mesh, distance, nullptr, threads, &only);
+      ASSERT_EQ(few.size(), n);
+      for (std::size_t i = 0; i < n; ++i)
+        ASSERT_EQ(few[i], only[i] ? all[i] : 0) << "face " << i << ", " << threads << " threads, distance " << distance;
+    }
+    const std::vector<char> none(n, 0);
+    const std::vector<char> nothing = contact_faces(r.mesh, distance, nullptr, 2, &none);
+    EXPECT_EQ(std::count(nothing.begin(), nothing.end(), 1), 0);
+  }
+}
+
 }  // namespace
