@@ -168,9 +168,9 @@ bool collapse_keeps_topology(Mesh& mesh, Mesh::HalfedgeHandle h) {
   return mesh.valence(a) > 3 && mesh.valence(b) > 3 && mesh.valence(v0) + mesh.valence(v1) >= 7;
 }
 
-CollapseChecker::CollapseChecker(const Mesh& mesh, double cell_size) : mesh_(&mesh) {
-  grid_.rebuild(mesh, cell_size, 0.0);
-}
+CollapseChecker::CollapseChecker(const Mesh& mesh, double cell_size) : mesh_(&mesh) { rebuild(cell_size); }
+
+void CollapseChecker::rebuild(double cell_size) { grid_.rebuild(*mesh_, cell_size, 0.0); }
 
 void CollapseChecker::note_vertex(Mesh::VertexHandle v) {
   for (auto f : mesh_->vf_range(v)) grid_.insert(*mesh_, f);

@@ -150,8 +150,8 @@ class QualityPass {
   std::size_t collapse_phase();
   std::size_t relax_phase();
   bool try_relax(Mesh::VertexHandle v);
-  bool collapse_between_ends(Mesh::HalfedgeHandle h, CollapseChecker& checker, const CollapseOptions& co);
-  bool collapse_to(Mesh::HalfedgeHandle h, double where, CollapseChecker& checker, const CollapseOptions& co);
+  bool collapse_between_ends(Mesh::HalfedgeHandle h, const CollapseOptions& co);
+  bool collapse_to(Mesh::HalfedgeHandle h, double where, const CollapseOptions& co);
   bool blocked(const Tri& t) const { return o_.obstacle && o_.obstacle->blocks(t); }
 
   Mesh& mesh_;
@@ -172,6 +172,14 @@ class QualityPass {
   // keeps its angles, hence stays above the bound.
   std::vector<int> watch_;
   IntersectionGuard* guard();
+  // The collapse phase's checker, built at its first question as the guard
+  // is (a phase often asks nothing: its faces were mended by the flips and
+  // splits before it), then rebuilt in the same storage: a fresh one per
+  // phase allocated and touched a grid over every face (page faults were
+  // most of the CT series' quality pass outside its checks).
+  std::unique_ptr<CollapseChecker> checker_;
+  bool checker_current_ = false;
+  CollapseChecker& checker();
   QualityResult result_;
   // The caps split this round: the foot m on the long edge bc, the apex a, d across.
   struct Split {
@@ -189,6 +197,15 @@ class QualityPass {
 // two). Its grid then offers every face a rebuild would (perhaps more, under
 // the boxes they had), and each answer is a yes or no over all of them: the
 // same answers as a guard built afresh, without a pass over every face.
+CollapseChecker& QualityPass::checker() {
+  if (!checker_)
+    checker_ = std::make_unique<CollapseChecker>(mesh_, 2.0 * voxel_);
+  else if (!checker_current_)
+    checker_->rebuild(2.0 * voxel_);
+  checker_current_ = true;
+  return *checker_;
+}
+
 IntersectionGuard* QualityPass::guard() {
   if (!o_.prevent_self_intersection) return nullptr;
   if (!guard_)
@@ -345,7 +362,7 @@ std::size_t QualityPass::collapse_phase() {
   mesh_.request_face_status();
   CollapseOptions co;
   co.min_angle = 0.0;  // the floor is ours: the smallest angle around the edge must rise
-  CollapseChecker checker(mesh_, 2.0 * voxel_);
+  checker_current_ = false;  // the flips, splits and moves since did not tell it
   std::size_t collapses = 0;
   for (auto f : bad()) {
     if (mesh_.status(f).deleted() || face_min_angle(mesh_, f) >= bound_) continue;
@@ -361,7 +378,7 @@ std::size_t QualityPass::collapse_phase() {
     bool done = false;
     for (auto h : tries) {
       if (!collapse_keeps_topology(mesh_, h)) continue;
-      if (!checker.geometry_ok(h, co)) continue;
+      if (!checker().geometry_ok(h, co)) continue;
       const auto v0 = mesh_.from_vertex_handle(h), v1 = mesh_.to_vertex_handle(h);
       const auto gone0 = mesh_.face_handle(h), gone1 = mesh_.face_handle(mesh_.opposite_halfedge_handle(h));
       std::vector<Tri> created;
@@ -382,14 +399,14 @@ std::size_t QualityPass::collapse_phase() {
       if (max_error_ > 0.0 && distance_to(pos(mesh_, v0), created) > max_error_) continue;
       done = true;
       mesh_.collapse(h);
-      checker.note_vertex(v1);
+      checker().note_vertex(v1);
       watch_faces_around(v1);
       ++collapses;
       break;
     }
     // Else an edge into a point between its ends, shortest edge first.
     for (std::size_t i = 0; i < edges.size() && !done; ++i)
-      if (collapse_between_ends(Mesh::HalfedgeHandle(edges[i].second), checker, co)) {
+      if (collapse_between_ends(Mesh::HalfedgeHandle(edges[i].second), co)) {
         ++collapses;
         done = true;
       }
@@ -425,10 +442,10 @@ std::size_t QualityPass::collapse_phase() {
 // at the defaults, the T1 head's faces left below 10 degrees: 128 without
 // this and the relaxation's tangential steps, 93 with this alone, 71 with
 // the steps alone, 60 with both).
-bool QualityPass::collapse_between_ends(Mesh::HalfedgeHandle h, CollapseChecker& checker, const CollapseOptions& co) {
+bool QualityPass::collapse_between_ends(Mesh::HalfedgeHandle h, const CollapseOptions& co) {
   if (!collapse_keeps_topology(mesh_, h)) return false;
   for (const double where : {0.5, 0.25, 0.75})
-    if (collapse_to(h, where, checker, co)) return true;
+    if (collapse_to(h, where, co)) return true;
   return false;
 }
 
@@ -437,7 +454,7 @@ bool QualityPass::collapse_between_ends(Mesh::HalfedgeHandle h, CollapseChecker&
 // (no face turned by more than 45 degrees, exact intersection tests), no new
 // face below the bound unless the smallest angle around rises, both old
 // places within the error bound of the new faces.
-bool QualityPass::collapse_to(Mesh::HalfedgeHandle h, double where, CollapseChecker& checker, const CollapseOptions& co) {
+bool QualityPass::collapse_to(Mesh::HalfedgeHandle h, double where, const CollapseOptions& co) {
   const auto v0 = mesh_.from_vertex_handle(h), v1 = mesh_.to_vertex_handle(h);
   const Vec3 p0 = pos(mesh_, v0), p1 = pos(mesh_, v1), m = (1.0 - where) * p0 + where * p1;
   const auto gone0 = mesh_.face_handle(h), gone1 = mesh_.face_handle(mesh_.opposite_halfedge_handle(h));
@@ -455,10 +472,10 @@ bool QualityPass::collapse_to(Mesh::HalfedgeHandle h, double where, CollapseChec
   if (!clear) return false;
   if (after < bound_ && !(after > before + 1e-6)) return false;
   if (max_error_ > 0.0 && std::max(distance_to(p0, created), distance_to(p1, created)) > max_error_) return false;
-  if (!checker.geometry_ok(h, co, m)) return false;
+  if (!checker().geometry_ok(h, co, m)) return false;
   mesh_.collapse(h);
   mesh_.set_point(v1, to_point(m));
-  checker.note_vertex(v1);
+  checker().note_vertex(v1);
   watch_faces_around(v1);
   return true;
 }

@@ -84,6 +84,9 @@ struct CollapseOptions {
 class CollapseChecker {
  public:
   CollapseChecker(const Mesh& mesh, double cell_size);
+  // Registers every face again (after changes it did not hear of), reusing
+  // the grid's storage.
+  void rebuild(double cell_size);
   // Would collapsing h leave the faces around its from-vertex non-degenerate,
   // unflipped, above the quality floor and free of improper intersections?
   bool geometry_ok(Mesh::HalfedgeHandle h, const CollapseOptions& options);
