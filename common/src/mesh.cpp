@@ -27,14 +27,18 @@ struct Marks {
     }
     return stamp;
   }
-  // Whether i is new for this stamp (then marked).
-  bool take(int i, std::uint32_t s) {
-    std::uint32_t& m = mark[static_cast<std::size_t>(i)];
-    if (m == s) return false;
-    m = s;
-    return true;
-  }
 };
+
+// Whether i is new for the stamp s in the marks at `mark` (then marked). The
+// callers hold the marks' storage in a local pointer: reached through the
+// thread_local each time, GCC looked its address up again (a call to
+// __tls_get_addr) for every element of a neighbourhood.
+bool take(std::uint32_t* mark, int i, std::uint32_t s) {
+  std::uint32_t& m = mark[static_cast<std::size_t>(i)];
+  if (m == s) return false;
+  m = s;
+  return true;
+}
 
 Marks& vertex_marks() {
   thread_local Marks m;
@@ -53,13 +57,14 @@ void vertices_within(const Mesh& mesh, Mesh::VertexHandle v, int rings, std::vec
   if (rings <= 0) return;
   Marks& marks = vertex_marks();
   const std::uint32_t stamp = marks.next(mesh.n_vertices());
-  marks.take(v.idx(), stamp);
+  std::uint32_t* const mark = marks.mark.data();
+  take(mark, v.idx(), stamp);
   std::size_t begin = 0;
   for (int r = 0; r < rings; ++r) {
     const std::size_t end = found.size();
     for (std::size_t i = begin; i < end; ++i)
       for (auto w : mesh.vv_range(Mesh::VertexHandle(found[i])))
-        if (marks.take(w.idx(), stamp)) found.push_back(w.idx());
+        if (take(mark, w.idx(), stamp)) found.push_back(w.idx());
     begin = end;
   }
   std::sort(found.begin(), found.end());
@@ -69,9 +74,10 @@ void faces_around(const Mesh& mesh, const std::vector<int>& vertices, std::vecto
   faces.clear();
   Marks& marks = face_marks();
   const std::uint32_t stamp = marks.next(mesh.n_faces());
+  std::uint32_t* const mark = marks.mark.data();
   for (int u : vertices)
     for (auto f : mesh.vf_range(Mesh::VertexHandle(u)))
-      if (marks.take(f.idx(), stamp)) faces.push_back(f.idx());
+      if (take(mark, f.idx(), stamp)) faces.push_back(f.idx());
   std::sort(faces.begin(), faces.end());
 }
 
