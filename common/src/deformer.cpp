@@ -289,10 +289,9 @@ class Deformer {
   bool guard_allows(Mesh::VertexHandle v, const Vec3& p);
   bool piles_onto_a_neighbour(Mesh::VertexHandle v, const Vec3& p) const;
   bool refusal_holds(Mesh::VertexHandle v, const Vec3& p) const;
-  void faces_touched_since(int& seen, std::vector<char>& faces);
-  // Per face: whether a corner or a corner's neighbour was touched since the
-  // mark `seen` (0: every face), which becomes now.
-  std::vector<char> faces_near_touched_since(int& seen);
+  // Per face: whether a corner, or a vertex within `rings` rings of one, was
+  // touched since the mark `seen` (0: every face), which becomes now.
+  void faces_touched_since(int& seen, std::vector<char>& faces, int rings = 0);
   void grow_per_vertex_state();
   bool converged(int cycle) const;
   void start_stage(int cycle);
@@ -477,32 +476,24 @@ void Deformer::start_stage(int cycle) {
   guard_ = std::make_unique<IntersectionGuard>(mesh_, o_.optimizer.max_step * voxel_, 1e-6 * voxel_ * voxel_);
 }
 
-void Deformer::faces_touched_since(int& seen, std::vector<char>& faces) {
+void Deformer::faces_touched_since(int& seen, std::vector<char>& faces, int rings) {
   const int since = seen;
   seen = ++touch_clock_;
   faces.assign(mesh_.n_faces(), since == 0 ? 1 : 0);
   if (since == 0) return;
-  for (std::size_t i = 0; i < touched_.size(); ++i)
-    if (touched_[i] >= since)
-      for (auto f : mesh_.vf_range(Mesh::VertexHandle(static_cast<int>(i)))) faces[static_cast<std::size_t>(f.idx())] = 1;
-}
-
-std::vector<char> Deformer::faces_near_touched_since(int& seen) {
-  const int since = seen;
-  seen = ++touch_clock_;
-  std::vector<char> faces(mesh_.n_faces(), since == 0 ? 1 : 0);
-  if (since == 0) return faces;
-  std::vector<char> near(mesh_.n_vertices(), 0);
-  for (std::size_t i = 0; i < touched_.size(); ++i) {
-    if (touched_[i] < since) continue;
-    const Mesh::VertexHandle v(static_cast<int>(i));
-    near[i] = 1;
-    for (auto w : mesh_.vv_range(v)) near[static_cast<std::size_t>(w.idx())] = 1;
+  const auto mark_faces_around = [&](std::size_t i) {
+    for (auto f : mesh_.vf_range(Mesh::VertexHandle(static_cast<int>(i)))) faces[static_cast<std::size_t>(f.idx())] = 1;
+  };
+  if (rings == 0) {  // every cycle, three times: one pass over the marks
+    for (std::size_t i = 0; i < touched_.size(); ++i)
+      if (touched_[i] >= since) mark_faces_around(i);
+    return;
   }
-  for (auto v : mesh_.vertices())
-    if (near[static_cast<std::size_t>(v.idx())])
-      for (auto f : mesh_.vf_range(v)) faces[static_cast<std::size_t>(f.idx())] = 1;
-  return faces;
+  std::vector<char> near(touched_.size(), 0);
+  for (std::size_t i = 0; i < touched_.size(); ++i) near[i] = touched_[i] >= since;
+  near = grow_by_rings(mesh_, std::move(near), rings);
+  for (std::size_t i = 0; i < near.size(); ++i)
+    if (near[i]) mark_faces_around(i);
 }
 
 void Deformer::compute_face_normals() {
@@ -1043,7 +1034,8 @@ std::size_t Deformer::refine_where_blocked(int cycle) {
   const std::size_t n_faces = mesh_.n_faces();
   const double coarse = o_.lod_face_area * voxel_ * voxel_;
   const ChannelWidthOptions w = width_options();
-  const std::vector<char> redo = faces_near_touched_since(verdicts_seen_);
+  std::vector<char> redo;
+  faces_touched_since(verdicts_seen_, redo, 1);
   const std::size_t known = std::min(mouth_verdict_.size(), n_faces);  // faces beyond: new, tested
   mouth_verdict_.resize(n_faces, 0);
   floor_verdict_.resize(n_faces, finest);

@@ -172,11 +172,11 @@ class QualityPass {
   // keeps its angles, hence stays above the bound.
   std::vector<int> watch_;
   IntersectionGuard* guard();
-  // The collapse phase's checker, built at its first question as the guard
-  // is (a phase often asks nothing: its faces were mended by the flips and
-  // splits before it), then rebuilt in the same storage: a fresh one per
-  // phase allocated and touched a grid over every face (page faults were
-  // most of the CT series' quality pass outside its checks).
+  // The collapse phase's checker, built at the phase's first question (a
+  // phase whose faces the flips and splits mended asks none) and rebuilt
+  // in the same storage: a fresh one per phase allocated and filled a grid
+  // over every face (CT series: 15 phases, 2.11 s of grid building, 1.37 s
+  // in the same storage).
   std::unique_ptr<CollapseChecker> checker_;
   bool checker_current_ = false;
   CollapseChecker& checker();
@@ -197,15 +197,6 @@ class QualityPass {
 // two). Its grid then offers every face a rebuild would (perhaps more, under
 // the boxes they had), and each answer is a yes or no over all of them: the
 // same answers as a guard built afresh, without a pass over every face.
-CollapseChecker& QualityPass::checker() {
-  if (!checker_)
-    checker_ = std::make_unique<CollapseChecker>(mesh_, 2.0 * voxel_);
-  else if (!checker_current_)
-    checker_->rebuild(2.0 * voxel_);
-  checker_current_ = true;
-  return *checker_;
-}
-
 IntersectionGuard* QualityPass::guard() {
   if (!o_.prevent_self_intersection) return nullptr;
   if (!guard_)
@@ -214,6 +205,17 @@ IntersectionGuard* QualityPass::guard() {
     guard_->rebuild();
   guard_current_ = true;
   return guard_.get();
+}
+
+// The collapse phase's checker, built or rebuilt at the phase's first
+// question, as the guard is.
+CollapseChecker& QualityPass::checker() {
+  if (!checker_)
+    checker_ = std::make_unique<CollapseChecker>(mesh_, 2.0 * voxel_);
+  else if (!checker_current_)
+    checker_->rebuild(2.0 * voxel_);
+  checker_current_ = true;
+  return *checker_;
 }
 
 // The faces below the bound, worst first (ties by index): bad_faces() over
