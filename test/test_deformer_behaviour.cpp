@@ -1,6 +1,8 @@
 // The driver's contract: determinism across threads, the observer and
 // cancellation, the generation property, and clear errors on bad input.
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include <gtest/gtest.h>
 
@@ -259,5 +261,48 @@ TEST(Deformer, global_refinement_never_rounds_faces_into_each_other) {
     EXPECT_EQ(self_intersecting_pairs(m), 0u);
     EXPECT_EQ(r.reason, StopReason::converged);
     EXPECT_EQ(r.global_refinements, 0);  // the refinement was undone
+  }
+}
+
+// Cycles with many moves make them by blocks of space, the blocks of a
+// colour on the threads at once (deformer.cpp, apply_moves): still the same
+// model for any thread count. A U whose arms stand two voxels apart, so
+// that the guard refuses moves where the two fronts meet; a seed of many
+// small faces, so that thousands of vertices move in a cycle.
+TEST(Deformer, many_moves_in_blocks_give_the_same_model_for_any_thread_count) {
+  ph::Grid grid;
+  grid.dims = {96, 72, 72};
+  const Vec3 c = grid.center();
+  const auto sdf = ph::unite({ph::capsule(c + Vec3(-11, 0, -8), c + Vec3(-11, 0, 22), 10.0),
+                              ph::capsule(c + Vec3(11, 0, -8), c + Vec3(11, 0, 22), 10.0),
+                              ph::capsule(c + Vec3(-11, 0, -8), c + Vec3(11, 0, -8), 10.0)});
+  const Volume volume = ph::voxelize(grid, sdf);
+  std::vector<Mesh> results;
+  for (int threads : {1, 2, 3}) {
+    Mesh m = make_geodesic_sphere(c + Vec3(0, 0, -8), 7.0, 5);  // 10,242 vertices
+    DeformOptions o = options();
+    o.lod_face_area = 2.0;
+    o.max_cycles = 15;  // the fronts meet across the gap by then
+    o.refine_channels = false;  // the cycles are under test, not what follows them
+    o.subvoxel_fit = false;
+    o.sharp_edges = false;
+    o.min_angle = 0.0;
+    o.threads = threads;
+    std::size_t most_moves = 0;
+    const DeformResult r = deform(m, volume, o, [&](const CycleReport& cycle) {
+      most_moves = std::max(most_moves, cycle.moved);
+      return true;
+    });
+    EXPECT_GT(most_moves, 4096u) << "no cycle moved enough vertices to go by blocks";
+    EXPECT_GT(r.rejected_moves, 0u) << "the guard refused nothing: the fronts never met";
+    std::printf("%d threads: %zu moves in the busiest cycle, %zu refused, %d cycles\n", threads, most_moves, r.rejected_moves, r.cycles);
+    EXPECT_TRUE(is_closed(m));
+    EXPECT_EQ(self_intersecting_pairs(m), 0u);
+    results.push_back(m);
+  }
+  for (std::size_t i = 1; i < results.size(); ++i) {
+    ASSERT_EQ(results[i].n_vertices(), results[0].n_vertices());
+    ASSERT_EQ(results[i].n_faces(), results[0].n_faces());
+    for (auto v : results[0].vertices()) ASSERT_EQ(results[i].point(v), results[0].point(v)) << "vertex " << v.idx();
   }
 }

@@ -4,6 +4,8 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <memory>
 #include <sstream>
 #include <vector>
@@ -285,8 +287,12 @@ class Deformer {
                           int cycle);
   std::size_t resample(int cycle);
   void activate_around(Mesh::VertexHandle v);
+  static constexpr int kNoWake = std::numeric_limits<int>::min();
+  bool wake(int event);
   void touch(Mesh::VertexHandle v) { touched_[static_cast<std::size_t>(v.idx())] = touch_clock_; }
-  bool guard_allows(Mesh::VertexHandle v, const Vec3& p);
+  bool guard_allows(Mesh::VertexHandle v, const Vec3& p, IntersectionGuard::Checker& checker);
+  int make_move(int i, const StepResult& r, int cycle, IntersectionGuard::Checker& checker);
+  std::vector<std::vector<int>> moves_by_colour(const std::vector<int>& movers, const std::vector<int>& candidates) const;
   bool piles_onto_a_neighbour(Mesh::VertexHandle v, const Vec3& p) const;
   bool refusal_holds(Mesh::VertexHandle v, const Vec3& p) const;
   // Per face: whether a corner, or a vertex within `rings` rings of one, was
@@ -341,6 +347,7 @@ class Deformer {
   CostFunction cost_;
   ImageEvent input_image_;  // the image event on the caller's volume (the gap gate's caps)
   std::unique_ptr<IntersectionGuard> guard_;
+  std::vector<IntersectionGuard::Checker> checkers_;  // per thread, for apply_moves()
   std::size_t rejected_earlier_stages_ = 0;
   double max_travel_ = 0.0;  // mm, after a global refinement
 
@@ -613,13 +620,13 @@ bool Deformer::piles_onto_a_neighbour(Mesh::VertexHandle v, const Vec3& p) const
 // neighbours nor the face it would have cut were touched since (moved, split
 // or flipped: touch()): the guard would decide on the same triangles. Its
 // answer is a yes or no over them, so the outcome is the guard's own.
-bool Deformer::guard_allows(Mesh::VertexHandle v, const Vec3& p) {
+bool Deformer::guard_allows(Mesh::VertexHandle v, const Vec3& p, IntersectionGuard::Checker& checker) {
   const auto i = static_cast<std::size_t>(v.idx());
   if (refusal_holds(v, p)) {
-    guard_->count_rejected_move();
+    ++checker.rejected;
     return false;
   }
-  if (guard_->move_is_safe(v, p, refusal_[i].face)) {
+  if (guard_->move_is_safe(v, p, refusal_[i].face, checker)) {
     refusal_[i].clock = -1;
     refusal_[i].face = -1;
     return true;
@@ -628,7 +635,7 @@ bool Deformer::guard_allows(Mesh::VertexHandle v, const Vec3& p) {
   r.to = p;
   r.clock = touch_clock_;
   r.blocker = {-1, -1, -1};
-  r.face = guard_->last_blocking_face();
+  r.face = checker.last_blocking_face;
   if (const int f = r.face; f >= 0) {
     int k = 0;
     for (auto w : mesh_.fv_range(Mesh::FaceHandle(f))) r.blocker[static_cast<std::size_t>(k++)] = w.idx();
@@ -648,59 +655,167 @@ bool Deformer::refusal_holds(Mesh::VertexHandle v, const Vec3& p) const {
   return true;
 }
 
+// A cycle with fewer moves than this makes them in vertex order on one
+// thread; with more, in blocks of space (moves_by_colour()).
+constexpr std::size_t kMovesInBlocks = 4096;
+
 std::size_t Deformer::apply_moves(const std::vector<int>& candidates, const std::vector<StepResult>& steps,
                                   int cycle) {
   std::fill(active_.begin(), active_.end(), 0);
   // Every vertex moves at most one step this cycle: boxes inflated by the
   // largest step stay valid until the next rebuild.
   if (o_.prevent_self_intersection) guard_->prepare_moves();
-  std::size_t moved = 0;
-  // In vertex order, one at a time: each accepted move is seen by the next
-  // check, and the outcome does not depend on the thread count.
+  std::vector<int> movers;  // indices into candidates
   for (std::size_t k = 0; k < candidates.size(); ++k) {
     const int i = candidates[k];
-    const StepResult& r = steps[k];
-    cost_value_[i] = r.cost;
-    step_[i] = r.next_step;
-    if (!r.moved) continue;
-    const Mesh::VertexHandle v(i);
-    if (piles_onto_a_neighbour(v, r.position)) {
-      step_[i] = o_.optimizer.min_step;
-      continue;
-    }
-    if ((o_.prevent_self_intersection && !guard_allows(v, r.position)) ||
-        (o_.obstacle && o_.obstacle->blocks_move(mesh_, v, r.position))) {
-      step_[i] = o_.optimizer.min_step;
-      // Its neighbours may move out of the way: it tries again next cycle;
-      // after kRetriesWhenRefused refusals in a row, at doubling intervals
-      // (or when a move nearby wakes it). A vertex pressed against another
-      // part of the model (the two sides of a thin sheet of object) was
-      // otherwise evaluated and refused every cycle until the model
-      // converged: most of the time of the study's CT head and MRI skin
-      // (920,000 refusals on the MRI skin at the defaults, 2.7 million with
-      // refine_channels, where the guard's checks took
-      // 40 % of the CT head's time).
-      // With an obstacle (the shrink-wrap's input, which the wrap hugs)
-      // every cycle as before: its faces below min_angle doubled without.
-      const int n = ++refused_[i];
-      if (n <= kRetriesWhenRefused || o_.obstacle) active_[i] = 1;
-      else retry_at_[i] = cycle + std::min(kMaxRetryInterval, 1 << std::min(n - kRetriesWhenRefused, 8));
-      continue;
-    }
-    const bool was_blocked = cost_.image.is_blocked(to_eigen(mesh_.point(v)));
-    mesh_.set_point(v, to_point(r.position));
-    touch(v);
-    refused_[i] = 0;
-    retry_at_[i] = 0;
-    if (was_blocked && !cost_.image.is_blocked(r.position)) settled_[i] = 1;
-    if ((r.position - anchor_[i]).norm() > o_.convergence_tolerance * voxel_) {
-      anchor_[i] = r.position;
-      last_change_[i] = cycle;
-    }
-    ++moved;
-    activate_around(v);
+    cost_value_[i] = steps[k].cost;
+    step_[i] = steps[k].next_step;
+    if (steps[k].moved) movers.push_back(static_cast<int>(k));
   }
+  checkers_.resize(static_cast<std::size_t>(std::max(1, threads_)));
+  std::size_t moved = 0;
+  // One at a time, each accepted move seen by the checks after it, in an
+  // order that depends on the positions only: the outcome does not depend
+  // on the thread count. With the guard (and no obstacle) and many moves,
+  // the moves go by blocks of space in eight colours (issue 17: the
+  // guard's one-at-a-time checks were a fifth of the CT series' time):
+  // blocks of one colour are further apart than any check reaches, so they
+  // run on the threads at once, and each block's moves go in vertex order.
+  if (!o_.prevent_self_intersection || o_.obstacle || movers.size() < kMovesInBlocks) {
+    IntersectionGuard::Checker& checker = checkers_.front();
+    for (int k : movers) moved += wake(make_move(candidates[static_cast<std::size_t>(k)], steps[static_cast<std::size_t>(k)], cycle, checker));
+  } else {
+    // Per thread, what its moves ask to wake (make_move()), woken after
+    // the colour's moves in the order of the moves: the flags come out as
+    // in a pass in that order on one thread (nothing reads them before the
+    // next cycle).
+    std::vector<std::vector<int>> woken(checkers_.size());
+    for (const std::vector<int>& colour : moves_by_colour(movers, candidates)) {
+      // colour: block after block, each a run of moves ending in -1.
+      std::vector<std::size_t> starts{0};
+      for (std::size_t j = 0; j < colour.size(); ++j)
+        if (colour[j] < 0) starts.push_back(j + 1);
+      const std::size_t blocks = starts.size() - 1;
+      const std::size_t workers = std::min<std::size_t>(checkers_.size(), blocks);
+      // Contiguous runs of blocks of about equal numbers of moves.
+      std::vector<std::size_t> first_block(workers + 1, blocks);
+      first_block[0] = 0;
+      for (std::size_t b = 0, w = 1; b < blocks && w < workers; ++b)
+        if (starts[b + 1] * workers >= w * colour.size()) first_block[w++] = b + 1;
+      const auto run = [&](std::size_t w) {
+        woken[w].clear();
+        for (std::size_t j = starts[first_block[w]]; j < starts[first_block[w + 1]]; ++j) {
+          if (colour[j] < 0) continue;
+          const auto k = static_cast<std::size_t>(colour[j]);
+          woken[w].push_back(make_move(candidates[k], steps[k], cycle, checkers_[w]));
+        }
+      };
+      if (workers <= 1)
+        for (std::size_t w = 0; w < workers; ++w) run(w);
+      else
+        detail::run_tasks(workers, static_cast<int>(workers), run);
+      for (std::size_t w = 0; w < workers; ++w)
+        for (int e : woken[w]) moved += wake(e);
+    }
+  }
+  if (o_.prevent_self_intersection)
+    for (auto& checker : checkers_) guard_->absorb(checker);
   return moved;
+}
+
+// What make_move() asks: i >= 0 moved (its surroundings wake), ~i refused
+// (it wakes itself), kNoWake neither. Returns whether a vertex moved.
+bool Deformer::wake(int event) {
+  if (event == kNoWake) return false;
+  if (event < 0) {
+    active_[static_cast<std::size_t>(~event)] = 1;
+    return false;
+  }
+  activate_around(Mesh::VertexHandle(event));
+  return true;
+}
+
+// The moves (indices into candidates) grouped for apply_moves(): space cut
+// into cubes wider than what a move's check reads (the guard's reach; a
+// move writes its own vertex, its state and no more), each cube coloured by
+// the parities of its coordinates. Per colour, the moves of each cube in
+// vertex order, each cube's run ending in -1. Two cubes of a colour are a
+// cube apart: no move in one reads what a move in the other writes.
+std::vector<std::vector<int>> Deformer::moves_by_colour(const std::vector<int>& movers,
+                                                        const std::vector<int>& candidates) const {
+  // A vertex within reach of a check may have moved a step into it.
+  const double size = std::max(guard_->reach() + 2.0 * o_.optimizer.max_step * voxel_, voxel_);
+  struct Keyed {
+    std::array<std::int64_t, 3> cube;
+    int vertex, k;
+  };
+  std::vector<Keyed> keyed;
+  keyed.reserve(movers.size());
+  for (int k : movers) {
+    const int i = candidates[static_cast<std::size_t>(k)];
+    const Vec3 p = to_eigen(mesh_.point(Mesh::VertexHandle(i)));
+    Keyed e{{}, i, k};
+    for (int a = 0; a < 3; ++a) e.cube[static_cast<std::size_t>(a)] = static_cast<std::int64_t>(std::floor(p[a] / size));
+    keyed.push_back(e);
+  }
+  const auto colour = [](const Keyed& e) {
+    return (e.cube[0] & 1) | ((e.cube[1] & 1) << 1) | ((e.cube[2] & 1) << 2);
+  };
+  std::sort(keyed.begin(), keyed.end(), [&](const Keyed& a, const Keyed& b) {
+    const auto ca = colour(a), cb = colour(b);
+    if (ca != cb) return ca < cb;
+    if (a.cube != b.cube) return a.cube < b.cube;
+    return a.vertex < b.vertex;
+  });
+  std::vector<std::vector<int>> out(8);
+  for (std::size_t j = 0; j < keyed.size(); ++j) {
+    std::vector<int>& list = out[static_cast<std::size_t>(colour(keyed[j]))];
+    list.push_back(keyed[j].k);
+    if (j + 1 == keyed.size() || keyed[j + 1].cube != keyed[j].cube) list.push_back(-1);
+  }
+  return out;
+}
+
+// One move of apply_moves(): made unless it piles onto a neighbour, the
+// guard or the obstacle refuses it. Writes only v's position and state;
+// reads v's neighbours and what the guard's check reads. Returns what to
+// wake (wake()), which it leaves to the caller.
+int Deformer::make_move(int i, const StepResult& r, int cycle, IntersectionGuard::Checker& checker) {
+  const Mesh::VertexHandle v(i);
+  if (piles_onto_a_neighbour(v, r.position)) {
+    step_[i] = o_.optimizer.min_step;
+    return kNoWake;
+  }
+  if ((o_.prevent_self_intersection && !guard_allows(v, r.position, checker)) ||
+      (o_.obstacle && o_.obstacle->blocks_move(mesh_, v, r.position))) {
+    step_[i] = o_.optimizer.min_step;
+    // Its neighbours may move out of the way: it tries again next cycle;
+    // after kRetriesWhenRefused refusals in a row, at doubling intervals
+    // (or when a move nearby wakes it). A vertex pressed against another
+    // part of the model (the two sides of a thin sheet of object) was
+    // otherwise evaluated and refused every cycle until the model
+    // converged: most of the time of the study's CT head and MRI skin
+    // (920,000 refusals on the MRI skin at the defaults, 2.7 million with
+    // refine_channels, where the guard's checks took
+    // 40 % of the CT head's time).
+    // With an obstacle (the shrink-wrap's input, which the wrap hugs)
+    // every cycle as before: its faces below min_angle doubled without.
+    const int n = ++refused_[i];
+    if (n <= kRetriesWhenRefused || o_.obstacle) return ~i;
+    retry_at_[i] = cycle + std::min(kMaxRetryInterval, 1 << std::min(n - kRetriesWhenRefused, 8));
+    return kNoWake;
+  }
+  const bool was_blocked = cost_.image.is_blocked(to_eigen(mesh_.point(v)));
+  mesh_.set_point(v, to_point(r.position));
+  touch(v);
+  refused_[i] = 0;
+  retry_at_[i] = 0;
+  if (was_blocked && !cost_.image.is_blocked(r.position)) settled_[i] = 1;
+  if ((r.position - anchor_[i]).norm() > o_.convergence_tolerance * voxel_) {
+    anchor_[i] = r.position;
+    last_change_[i] = cycle;
+  }
+  return i;
 }
 
 void Deformer::activate_around(Mesh::VertexHandle v) {

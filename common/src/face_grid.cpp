@@ -56,6 +56,7 @@ void FaceGrid::insert_box(int face, Vec3 lo, Vec3 hi) {
   const bool first = !(box_lo_[face].x() <= box_hi_[face].x());
   box_lo_[face] = box_lo_[face].cwiseMin(lo);
   box_hi_[face] = box_hi_[face].cwiseMax(hi);
+  widest_box_ = std::max(widest_box_, (box_hi_[face] - box_lo_[face]).maxCoeff());
   // A face with one box is listed in all its cells; with several (a flip
   // registers both candidate triangles), refresh() must register it again.
   reg_lo_[face] = first ? lo : Vec3::Constant(kInf);
@@ -90,6 +91,7 @@ void FaceGrid::reregister(int face, const Vec3& lo, const Vec3& hi) {
   remove_from_cells(face);
   box_lo_[face] = reg_lo_[face] = a;
   box_hi_[face] = reg_hi_[face] = b;
+  widest_box_ = std::max(widest_box_, (b - a).maxCoeff());
   add_to_cells(face, a, b);
 }
 
@@ -103,6 +105,7 @@ void FaceGrid::reset(double cell_size, double margin) {
   reg_lo_.clear();
   reg_hi_.clear();
   current_stamp_ = 0;
+  widest_box_ = 0.0;
 }
 
 void FaceGrid::rebuild(const Mesh& mesh, double cell_size, double margin) {

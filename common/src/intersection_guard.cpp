@@ -86,7 +86,22 @@ bool IntersectionGuard::triangle_is_clear(const Triangle& t, const std::vector<i
 }
 
 bool IntersectionGuard::move_is_safe(Mesh::VertexHandle v, const Vec3& p, int hint) {
-  std::vector<int>& ring_faces = ring_faces_;
+  const bool safe = move_is_safe(v, p, hint, own_);
+  last_blocking_face_ = own_.last_blocking_face;
+  absorb(own_);
+  return safe;
+}
+
+void IntersectionGuard::absorb(Checker& checker) {
+  stats_.rejected_moves += checker.rejected;
+  checker.rejected = 0;
+  for (int v : checker.moved)
+    if (moved_vertices_.size() <= mesh_->n_faces()) moved_vertices_.push_back(v);  // beyond: prepare_moves() looks at every face
+  checker.moved.clear();
+}
+
+bool IntersectionGuard::move_is_safe(Mesh::VertexHandle v, const Vec3& p, int hint, Checker& checker) const {
+  std::vector<int>& ring_faces = checker.ring_faces;
   ring_faces.clear();
   for (auto f : mesh_->vf_range(v)) ring_faces.push_back(f.idx());
   // One grid query for the whole moved fan: every candidate face is built
@@ -94,10 +109,10 @@ bool IntersectionGuard::move_is_safe(Mesh::VertexHandle v, const Vec3& p, int hi
   // the fan are checked too (their shared vertex is known to the predicate),
   // so a fan cannot fold over itself.
   // Each triangle with its normal, computed once for all the pairs it is in.
-  std::vector<FilteredTriangle>& fan = fan_;
+  std::vector<FilteredTriangle>& fan = checker.fan;
   fan.clear();
   Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-  std::vector<std::pair<Vec3, Vec3>>& boxes = fan_boxes_;
+  std::vector<std::pair<Vec3, Vec3>>& boxes = checker.boxes;
   boxes.clear();
   for (int f : ring_faces) {
     const Triangle before = face_triangle(f, -1, p);
@@ -107,8 +122,8 @@ bool IntersectionGuard::move_is_safe(Mesh::VertexHandle v, const Vec3& p, int hi
     const Vec3 n_before = before.normal();
     const Vec3 n_after = after.normal();
     if (0.5 * n_after.norm() < min_face_area_ || n_after.dot(n_before) <= 0.0) {
-      ++stats_.rejected_moves;
-      last_blocking_face_ = -1;
+      ++checker.rejected;
+      checker.last_blocking_face = -1;
       return false;
     }
     fan.emplace_back(after.p, after.id);
@@ -121,9 +136,12 @@ bool IntersectionGuard::move_is_safe(Mesh::VertexHandle v, const Vec3& p, int hi
   // faces before it only: each pair within the fan once (the predicate's
   // answer does not depend on the order). The predicate's scale: the extent
   // of the box around both triangles.
-  // `registered`: g came from the grid. A face outside the fan lies in the
-  // box it is registered with (the moves keep it so): when that box meets no
-  // fan face's box, neither does g, and g is not built.
+  // A face outside the fan lies in the box it is registered with (the
+  // moves keep it so): when that box meets no fan face's box, neither does
+  // g, and g is not built (nor are its vertices read: a check reads only
+  // what lies within reach()).
+  // `registered`: g is in the grid (every face is, but for faces split off
+  // since the last registration).
   const auto cuts_fan = [&](int g, bool registered) {
     const auto end = static_cast<std::size_t>(std::find(ring_faces.begin(), ring_faces.end(), g) - ring_faces.begin());
     if (registered && end == ring_faces.size()) {
@@ -151,24 +169,30 @@ bool IntersectionGuard::move_is_safe(Mesh::VertexHandle v, const Vec3& p, int hi
   // against another part of the model is mostly refused by the same face
   // again, and any face that cuts the fan refuses the move (the grid would
   // offer that face too), so the answer is the one the whole query gives.
-  bool clear = true;
+  // The first face of the query that cuts the fan refuses the move: the
+  // rest are not looked at.
+  int blocking = -1;
   if (hint >= 0 && static_cast<std::size_t>(hint) < mesh_->n_faces() &&
-      !(mesh_->has_face_status() && mesh_->status(Mesh::FaceHandle(hint)).deleted()) && cuts_fan(hint, false)) {
-    clear = false;
-    last_blocking_face_ = hint;
-  }
-  if (clear)
-    grid_.for_each_near(lo, hi, [&](int g) {
-      if (clear && cuts_fan(g, true)) {
-        clear = false;
-        last_blocking_face_ = g;
-      }
+      !(mesh_->has_face_status() && mesh_->status(Mesh::FaceHandle(hint)).deleted()) && cuts_fan(hint, grid_.registered(hint)))
+    blocking = hint;
+  if (blocking < 0) {
+    if (++checker.stamp == 0) {
+      std::fill(checker.stamps.begin(), checker.stamps.end(), 0);
+      checker.stamp = 1;
+    }
+    grid_.any_near_once(lo, hi, checker.stamps, checker.stamp, [&](int g) {
+      if (!cuts_fan(g, true)) return false;
+      blocking = g;
+      return true;
     });
-  if (!clear)
-    ++stats_.rejected_moves;
-  else if (moved_vertices_.size() <= mesh_->n_faces())  // beyond: prepare_moves() looks at every face
-    moved_vertices_.push_back(v.idx());
-  return clear;
+  }
+  if (blocking >= 0) {
+    ++checker.rejected;
+    checker.last_blocking_face = blocking;
+    return false;
+  }
+  checker.moved.push_back(v.idx());
+  return true;
 }
 
 int IntersectionGuard::bad_partner(int face, std::vector<std::uint32_t>& stamps, std::uint32_t stamp) const {

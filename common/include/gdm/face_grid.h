@@ -43,6 +43,10 @@ class FaceGrid {
   // leaves the faces it shrinks inside their registered boxes).
   void register_new_faces(const Mesh& mesh);
 
+  // Has the face a registered box?
+  bool registered(int face) const {
+    return static_cast<std::size_t>(face) < box_lo_.size() && box_lo_[face].x() <= box_hi_[face].x();
+  }
   // Does the union of the face's registered boxes meet the box [lo, hi]?
   bool box_meets(int face, const Vec3& lo, const Vec3& hi) const {
     return !((box_lo_[face].array() > hi.array()).any() || (box_hi_[face].array() < lo.array()).any());
@@ -70,6 +74,10 @@ class FaceGrid {
   }
 
   double cell_size() const { return cell_size_; }
+  // The largest extent, along any axis, of a face's union box registered
+  // since the last reset (it only grows until then): a face the grid offers
+  // for a box lies within this distance of it.
+  double widest_box() const { return widest_box_; }
   std::size_t cell_count() const { return cells_.size(); }
 
  private:
@@ -98,6 +106,7 @@ class FaceGrid {
   std::vector<int> redo_;  // refresh()'s scratch
   std::vector<std::uint32_t> stamp_;
   std::uint32_t current_stamp_ = 0;
+  double widest_box_ = 0.0;
 };
 
 template <class Scan>

@@ -46,6 +46,31 @@ class IntersectionGuard {
   // tested first; the answer does not depend on it.
   bool move_is_safe(Mesh::VertexHandle v, const Vec3& p, int hint = -1);
 
+  // One thread's share of checks made at the same time as other threads'
+  // (issue 17): its scratch, its marks for the grid's query, and what the
+  // guard learns from its checks until absorb() takes it in.
+  struct Checker {
+    std::vector<std::uint32_t> stamps;
+    std::uint32_t stamp = 0;
+    std::vector<int> ring_faces;
+    std::vector<FilteredTriangle> fan;
+    std::vector<std::pair<Vec3, Vec3>> boxes;
+    std::vector<int> moved;          // vertices of the moves it allowed
+    std::size_t rejected = 0;        // moves it refused
+    int last_blocking_face = -1;     // as last_blocking_face(), for its last refusal
+  };
+  // move_is_safe() with the checker's state instead of the guard's: the
+  // guard and the mesh are only read, so threads may check at once, each
+  // with its own checker, moves far enough apart that none reads what
+  // another's move changes (reach()). The same answer as move_is_safe().
+  bool move_is_safe(Mesh::VertexHandle v, const Vec3& p, int hint, Checker& checker) const;
+  // Takes in a checker's allowed moves (for prepare_moves()) and refusals.
+  void absorb(Checker& checker);
+  // A check of a move of v within the margin reads vertices within this
+  // distance of v (its fan, the faces the grid offers near it) and nothing
+  // else of the mesh.
+  double reach() const { return 2.0 * grid_.widest_box() + margin_; }
+
   // Many moves at once (issue 17: the guard's one-at-a-time checks were the
   // sequential quarter of a run). Every vertex of `moves` (each listed once)
   // is moved to its target; then the faces around them are checked, in
@@ -120,10 +145,8 @@ class IntersectionGuard {
   };
   std::vector<WorkerStamps> worker_stamps_;
 
-  // move_is_safe's scratch, kept to spare an allocation per call.
-  std::vector<int> ring_faces_;
-  std::vector<FilteredTriangle> fan_;
-  std::vector<std::pair<Vec3, Vec3>> fan_boxes_;
+  // move_is_safe()'s checker, kept to spare an allocation per call.
+  Checker own_;
 };
 
 }  // namespace gdm
