@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -13,6 +14,7 @@
 #include "gdm/mesh_checks.h"
 #include "gdm/phantoms.h"
 #include "gdm/seed.h"
+#include "gdm/space_blocks.h"
 #include "gdm/surface_fit.h"
 #include "anisotropic_ellipsoid.h"
 #include "mesh_expectations.h"
@@ -186,3 +188,43 @@ TEST(SubvoxelFit, removes_the_shortfall_and_the_inward_bias) {
 
 
 
+
+// A pass with many moves makes them by cubes of space, the cubes of a
+// colour on the threads at once (surface_fit.cpp, space_blocks.h): the
+// same model for any thread count, and still no self-intersection. Two
+// fine spheres (10,242 vertices each) in a noisy image of two balls that
+// overlap, so that the fit presses them against each other and the guard
+// refuses moves there.
+TEST(SubvoxelFit, many_moves_by_cubes_give_the_same_model_for_any_thread_count) {
+  ph::Grid grid;
+  grid.dims = {72, 48, 48};
+  const Vec3 c = grid.center();
+  const Vec3 a = c - Vec3(7.5, 0, 0), b = c + Vec3(7.5, 0, 0);
+  const auto sdf = ph::unite({ph::sphere(a, 8.0), ph::sphere(b, 8.0)});
+  const Volume volume = ph::with_gaussian_noise(ph::voxelize(grid, sdf, kBackground, kContrast), kNoise, 75);
+  Mesh two = make_geodesic_sphere(a - Vec3(0.6, 0, 0), 7.2, 5);
+  const Mesh other = make_geodesic_sphere(b + Vec3(0.6, 0, 0), 7.2, 5);
+  const int first = static_cast<int>(two.n_vertices());
+  for (auto v : other.vertices()) two.add_vertex(other.point(v));
+  for (auto f : other.faces()) {
+    std::vector<Mesh::VertexHandle> corners;
+    for (auto v : other.fv_range(f)) corners.push_back(Mesh::VertexHandle(v.idx() + first));
+    two.add_face(corners);
+  }
+  ASSERT_EQ(self_intersecting_pairs(two), 0u);
+  std::vector<Mesh> results;
+  for (int threads : {1, 2, 3}) {
+    Mesh mesh = two;
+    FitOptions fit;  // without a noise estimate: spheres on their own quadrics would not move
+    fit.threads = threads;
+    std::vector<Vec3> origin;
+    const FitResult r = fit_to_threshold(mesh, volume, kThreshold, fit, origin);
+    std::printf("%d threads: %zu moves, %zu refused\n", threads, r.moves, r.rejected);
+    EXPECT_GT(r.moves, 2 * kMovesByCubes);
+    EXPECT_GT(r.rejected, 0u) << "the spheres never pressed against each other";
+    EXPECT_EQ(self_intersecting_pairs(mesh), 0u);
+    results.push_back(mesh);
+  }
+  for (std::size_t i = 1; i < results.size(); ++i)
+    for (auto v : results[0].vertices()) ASSERT_EQ(results[i].point(v), results[0].point(v)) << "vertex " << v.idx();
+}

@@ -4,7 +4,6 @@
 #include <array>
 #include <chrono>
 #include <cmath>
-#include <cstdint>
 #include <limits>
 #include <memory>
 #include <sstream>
@@ -25,6 +24,7 @@
 #include "gdm/passage.h"
 #include "gdm/resampler.h"
 #include "gdm/self_contact.h"
+#include "gdm/space_blocks.h"
 #include "gdm/seed.h"
 #include "gdm/surface_fit.h"
 #include "gdm/text.h"
@@ -292,7 +292,6 @@ class Deformer {
   void touch(Mesh::VertexHandle v) { touched_[static_cast<std::size_t>(v.idx())] = touch_clock_; }
   bool guard_allows(Mesh::VertexHandle v, const Vec3& p, IntersectionGuard::Checker& checker);
   int make_move(int i, const StepResult& r, int cycle, IntersectionGuard::Checker& checker);
-  std::vector<std::vector<int>> moves_by_colour(const std::vector<int>& movers, const std::vector<int>& candidates) const;
   bool piles_onto_a_neighbour(Mesh::VertexHandle v, const Vec3& p) const;
   bool refusal_holds(Mesh::VertexHandle v, const Vec3& p) const;
   // Per face: whether a corner, or a vertex within `rings` rings of one, was
@@ -655,9 +654,10 @@ bool Deformer::refusal_holds(Mesh::VertexHandle v, const Vec3& p) const {
   return true;
 }
 
-// A cycle with fewer moves than this makes them in vertex order on one
-// thread; with more, in blocks of space (moves_by_colour()).
-constexpr std::size_t kMovesInBlocks = 4096;
+// Cycles under kMovesByCubes moves go in vertex order on one thread. The
+// whole tooth at the defaults, whose cycles move at most about a thousand
+// vertices, met itself across its pocket (355 mm^2) with every cycle by
+// cubes: the order decides which of two meeting fronts moves first.
 
 std::size_t Deformer::apply_moves(const std::vector<int>& candidates, const std::vector<StepResult>& steps,
                                   int cycle) {
@@ -677,45 +677,37 @@ std::size_t Deformer::apply_moves(const std::vector<int>& candidates, const std:
   // One at a time, each accepted move seen by the checks after it, in an
   // order that depends on the positions only: the outcome does not depend
   // on the thread count. With the guard (and no obstacle) and many moves,
-  // the moves go by blocks of space in eight colours (issue 17: the
-  // guard's one-at-a-time checks were a fifth of the CT series' time):
-  // blocks of one colour are further apart than any check reaches, so they
-  // run on the threads at once, and each block's moves go in vertex order.
-  if (!o_.prevent_self_intersection || o_.obstacle || movers.size() < kMovesInBlocks) {
+  // the moves go by cubes of space in eight colours (space_blocks.h; issue
+  // 17: the guard's one-at-a-time checks were a fifth of the CT series'
+  // time): cubes of one colour are further apart than any check reaches,
+  // so they run on the threads at once, each cube's moves in vertex order.
+  if (!o_.prevent_self_intersection || o_.obstacle || movers.size() < kMovesByCubes) {
     IntersectionGuard::Checker& checker = checkers_.front();
-    for (int k : movers) moved += wake(make_move(candidates[static_cast<std::size_t>(k)], steps[static_cast<std::size_t>(k)], cycle, checker));
+    for (int k : movers) {
+      const auto j = static_cast<std::size_t>(k);
+      moved += wake(make_move(candidates[j], steps[j], cycle, checker));
+    }
   } else {
     // Per thread, what its moves ask to wake (make_move()), woken after
     // the colour's moves in the order of the moves: the flags come out as
     // in a pass in that order on one thread (nothing reads them before the
     // next cycle).
     std::vector<std::vector<int>> woken(checkers_.size());
-    for (const std::vector<int>& colour : moves_by_colour(movers, candidates)) {
-      // colour: block after block, each a run of moves ending in -1.
-      std::vector<std::size_t> starts{0};
-      for (std::size_t j = 0; j < colour.size(); ++j)
-        if (colour[j] < 0) starts.push_back(j + 1);
-      const std::size_t blocks = starts.size() - 1;
-      const std::size_t workers = std::min<std::size_t>(checkers_.size(), blocks);
-      // Contiguous runs of blocks of about equal numbers of moves.
-      std::vector<std::size_t> first_block(workers + 1, blocks);
-      first_block[0] = 0;
-      for (std::size_t b = 0, w = 1; b < blocks && w < workers; ++b)
-        if (starts[b + 1] * workers >= w * colour.size()) first_block[w++] = b + 1;
-      const auto run = [&](std::size_t w) {
-        woken[w].clear();
-        for (std::size_t j = starts[first_block[w]]; j < starts[first_block[w + 1]]; ++j) {
-          if (colour[j] < 0) continue;
-          const auto k = static_cast<std::size_t>(colour[j]);
-          woken[w].push_back(make_move(candidates[k], steps[k], cycle, checkers_[w]));
-        }
-      };
-      if (workers <= 1)
-        for (std::size_t w = 0; w < workers; ++w) run(w);
-      else
-        detail::run_tasks(workers, static_cast<int>(workers), run);
-      for (std::size_t w = 0; w < workers; ++w)
-        for (int e : woken[w]) moved += wake(e);
+    // Cubes wider than a check reads: a vertex within reach of a check may
+    // have moved a step into it.
+    std::vector<Vec3> at;
+    at.reserve(movers.size());
+    for (int k : movers) at.push_back(to_eigen(mesh_.point(Mesh::VertexHandle(candidates[static_cast<std::size_t>(k)]))));
+    const CubeColouring cubes =
+        colour_by_cubes(movers, at, std::max(guard_->reach() + 2.0 * o_.optimizer.max_step * voxel_, voxel_));
+    for (std::size_t c = 0; c < 8; ++c) {
+      for (auto& list : woken) list.clear();
+      run_colour(cubes.items[c], cubes.cube_starts[c], checkers_.size(), [&](int k, std::size_t w) {
+        const auto j = static_cast<std::size_t>(k);
+        woken[w].push_back(make_move(candidates[j], steps[j], cycle, checkers_[w]));
+      });
+      for (const auto& list : woken)
+        for (int e : list) moved += wake(e);
     }
   }
   if (o_.prevent_self_intersection)
@@ -733,47 +725,6 @@ bool Deformer::wake(int event) {
   }
   activate_around(Mesh::VertexHandle(event));
   return true;
-}
-
-// The moves (indices into candidates) grouped for apply_moves(): space cut
-// into cubes wider than what a move's check reads (the guard's reach; a
-// move writes its own vertex, its state and no more), each cube coloured by
-// the parities of its coordinates. Per colour, the moves of each cube in
-// vertex order, each cube's run ending in -1. Two cubes of a colour are a
-// cube apart: no move in one reads what a move in the other writes.
-std::vector<std::vector<int>> Deformer::moves_by_colour(const std::vector<int>& movers,
-                                                        const std::vector<int>& candidates) const {
-  // A vertex within reach of a check may have moved a step into it.
-  const double size = std::max(guard_->reach() + 2.0 * o_.optimizer.max_step * voxel_, voxel_);
-  struct Keyed {
-    std::array<std::int64_t, 3> cube;
-    int vertex, k;
-  };
-  std::vector<Keyed> keyed;
-  keyed.reserve(movers.size());
-  for (int k : movers) {
-    const int i = candidates[static_cast<std::size_t>(k)];
-    const Vec3 p = to_eigen(mesh_.point(Mesh::VertexHandle(i)));
-    Keyed e{{}, i, k};
-    for (int a = 0; a < 3; ++a) e.cube[static_cast<std::size_t>(a)] = static_cast<std::int64_t>(std::floor(p[a] / size));
-    keyed.push_back(e);
-  }
-  const auto colour = [](const Keyed& e) {
-    return (e.cube[0] & 1) | ((e.cube[1] & 1) << 1) | ((e.cube[2] & 1) << 2);
-  };
-  std::sort(keyed.begin(), keyed.end(), [&](const Keyed& a, const Keyed& b) {
-    const auto ca = colour(a), cb = colour(b);
-    if (ca != cb) return ca < cb;
-    if (a.cube != b.cube) return a.cube < b.cube;
-    return a.vertex < b.vertex;
-  });
-  std::vector<std::vector<int>> out(8);
-  for (std::size_t j = 0; j < keyed.size(); ++j) {
-    std::vector<int>& list = out[static_cast<std::size_t>(colour(keyed[j]))];
-    list.push_back(keyed[j].k);
-    if (j + 1 == keyed.size() || keyed[j + 1].cube != keyed[j].cube) list.push_back(-1);
-  }
-  return out;
 }
 
 // One move of apply_moves(): made unless it piles onto a neighbour, the

@@ -10,6 +10,7 @@
 
 #include "gdm/intersection_guard.h"
 #include "gdm/parallel.h"
+#include "gdm/space_blocks.h"
 
 namespace gdm {
 
@@ -294,6 +295,11 @@ FitResult fit_to_threshold(Mesh& mesh, const Volume& volume, double threshold, c
   // changes no accuracy figure, and the guard's checks of the many tiny
   // moves of the last passes were most of the fit's time).
   const double still = kStill * voxel;
+  // The pass's moves: the vertices, each one's target, and whether it has one.
+  std::vector<int> movers;
+  std::vector<Vec3> goal(mesh.n_vertices(), Vec3::Zero());
+  std::vector<char> moving(mesh.n_vertices(), 0);
+  std::vector<IntersectionGuard::Checker> checkers;  // per thread, for moves by cubes
   for (int pass = 0; pass < o.passes; ++pass) {
     face_normals.resize(mesh.n_faces());
     parallel_for(mesh.n_faces(), threads, [&](std::size_t f) {
@@ -421,6 +427,10 @@ FitResult fit_to_threshold(Mesh& mesh, const Volume& volume, double threshold, c
         guard = std::make_unique<IntersectionGuard>(mesh, 0.05 * voxel, 1e-6 * voxel * voxel);
     }
     std::fill(moved.begin(), moved.end(), 0);
+    //    Each vertex's target, from where the pass began (a vertex moves
+    //    only by its own move).
+    movers.clear();
+    double travel = 0.0;
     for (auto v : mesh.vertices()) {
       if (!has[v.idx()] || !active[v.idx()]) continue;
       const Vec3 p = pos(mesh, v);
@@ -431,26 +441,73 @@ FitResult fit_to_threshold(Mesh& mesh, const Volume& volume, double threshold, c
           vi < o.vertex_max_distance.size() && o.vertex_max_distance[vi] > 0.0 ? o.vertex_max_distance[vi] : max_move;
       if ((target - anchor).norm() > bound) target = anchor + (target - anchor).normalized() * bound;
       if ((target - p).norm() < still) continue;  // already there: spare the guard
-      bool accepted = false;
-      for (int attempt = 0; attempt < 3 && !accepted; ++attempt) {
+      movers.push_back(v.idx());
+      moving[vi] = 1;
+      goal[vi] = target;
+      travel = std::max(travel, (target - p).norm());
+    }
+    //    A move tries its full length, then half, then a quarter.
+    const auto try_move = [&](int i, IntersectionGuard::Checker* checker, std::size_t& moves, std::size_t& rejected) {
+      const Mesh::VertexHandle v(i);
+      const auto vi = static_cast<std::size_t>(i);
+      const Vec3 p = pos(mesh, v), target = goal[vi];
+      for (int attempt = 0; attempt < 3; ++attempt) {
         const Vec3 q = p + (target - p) * std::ldexp(1.0, -attempt);
         if (!volume.contains(q)) continue;  // vertices stay inside the grid
-        if (!guard || guard->move_is_safe(v, q, blocker[vi])) {
+        if (!guard || (checker ? guard->move_is_safe(v, q, blocker[vi], *checker) : guard->move_is_safe(v, q, blocker[vi]))) {
           blocker[vi] = -1;
           mesh.set_point(v, to_point(q));
-          moved[v.idx()] = (q - p).norm() > still;
-          if (guard)
+          moved[vi] = (q - p).norm() > still;
+          if (guard && !checker)
             for (auto f : mesh.vf_range(v)) guard->note_face(f);
-          accepted = true;
-        } else {
-          blocker[vi] = guard->last_blocking_face();
+          ++moves;
+          return;
         }
+        blocker[vi] = checker ? checker->last_blocking_face : guard->last_blocking_face();
       }
-      if (accepted)
-        ++result.moves;
-      else
-        ++result.rejected;
+      ++rejected;
+    };
+    if (!guard || movers.size() < kMovesByCubes) {
+      for (int i : movers) try_move(i, nullptr, result.moves, result.rejected);
+    } else {
+      //  Many moves: by cubes of space (space_blocks.h), the cubes of a
+      //  colour on the threads at once. Each face around a move is first
+      //  registered with the box of every place its corners may go this
+      //  pass, so no move leaves the grid behind and the checks only read
+      //  it; each answer is the guard's yes or no over the same faces.
+      std::vector<int>& faces = scratch().faces;
+      faces.clear();
+      for (int i : movers)
+        for (auto f : mesh.vf_range(Mesh::VertexHandle(i))) faces.push_back(f.idx());
+      std::sort(faces.begin(), faces.end());
+      faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+      for (int f : faces) {
+        Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+        for (auto w : mesh.fv_range(Mesh::FaceHandle(f))) {
+          const Vec3 a = pos(mesh, w);
+          const Vec3 b = moving[static_cast<std::size_t>(w.idx())] ? goal[static_cast<std::size_t>(w.idx())] : a;
+          lo = lo.cwiseMin(a).cwiseMin(b);
+          hi = hi.cwiseMax(a).cwiseMax(b);
+        }
+        guard->note_box(f, lo, hi);
+      }
+      std::vector<Vec3> at;
+      at.reserve(movers.size());
+      for (int i : movers) at.push_back(pos(mesh, Mesh::VertexHandle(i)));
+      // A vertex within reach of a check may have moved its travel into it.
+      const CubeColouring cubes = colour_by_cubes(movers, at, std::max(guard->reach() + 2.0 * travel, voxel));
+      checkers.resize(static_cast<std::size_t>(threads));
+      std::vector<std::size_t> moves(checkers.size(), 0), rejected(checkers.size(), 0);
+      for (std::size_t c = 0; c < 8; ++c)
+        run_colour(cubes.items[c], cubes.cube_starts[c], checkers.size(),
+                   [&](int i, std::size_t w) { try_move(i, &checkers[w], moves[w], rejected[w]); });
+      for (std::size_t w = 0; w < checkers.size(); ++w) {
+        guard->absorb(checkers[w]);
+        result.moves += moves[w];
+        result.rejected += rejected[w];
+      }
     }
+    for (int i : movers) moving[static_cast<std::size_t>(i)] = 0;
     if (std::find(moved.begin(), moved.end(), 1) == moved.end()) break;  // a fixed point: nothing left to do
     for (auto v : mesh.vertices()) {
       char a = moved[v.idx()];

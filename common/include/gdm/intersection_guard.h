@@ -27,6 +27,8 @@ class IntersectionGuard {
   // Re-registers every face (after topology changes or once per cycle).
   void rebuild();
   void note_face(Mesh::FaceHandle f) { grid_.insert(*mesh_, f); }
+  // Registers a box the face will stay within (besides its own).
+  void note_box(int face, const Vec3& lo, const Vec3& hi) { grid_.insert_box(face, lo, hi); }
   // Readies the guard for a round of moves of at most the margin each, as
   // rebuild() does, but registers again only the faces whose box changed: a
   // deformation cycle moves few vertices, and rebuilding the grid every
