@@ -55,10 +55,13 @@ struct FitResult {
 // vertex's own part given back in proportion to how far it stands above
 // options.noise (Wiener-like) and drawn toward the quadric over its 2-ring
 // where its height above it is within what the noise explains, then applied
-// in vertex order (moves under a hundredth of a voxel skipped), each move
-// checked by the IntersectionGuard (a refused move is retried at half and a
-// quarter length) and kept inside the grid. At the fixed point flat faces sit across a curved surface instead of
-// inside it (no chord bias) and the curvature term's inward pull is gone.
+// one at a time (moves under a hundredth of a voxel skipped), each checked
+// by the IntersectionGuard (a refused move is retried at half and a quarter
+// length) and kept inside the grid: in vertex order, or, in a pass of at
+// least kMovesByCubes moves, by cubes of space (space_blocks.h), the same
+// for any thread count either way. At the fixed point flat faces sit across
+// a curved surface instead of inside it (no chord bias) and the curvature
+// term's inward pull is gone.
 // `origin` (indexed by vertex handle; extended with the current positions of
 // vertices it does not cover) anchors the max_distance bound: pass an empty
 // vector to anchor at the current positions.
