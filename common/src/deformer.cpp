@@ -654,11 +654,6 @@ bool Deformer::refusal_holds(Mesh::VertexHandle v, const Vec3& p) const {
   return true;
 }
 
-// Cycles under kMovesByCubes moves go in vertex order on one thread. The
-// whole tooth at the defaults, whose cycles move at most about a thousand
-// vertices, met itself across its pocket (355 mm^2) with every cycle by
-// cubes: the order decides which of two meeting fronts moves first.
-
 std::size_t Deformer::apply_moves(const std::vector<int>& candidates, const std::vector<StepResult>& steps,
                                   int cycle) {
   std::fill(active_.begin(), active_.end(), 0);
@@ -681,6 +676,10 @@ std::size_t Deformer::apply_moves(const std::vector<int>& candidates, const std:
   // 17: the guard's one-at-a-time checks were a fifth of the CT series'
   // time): cubes of one colour are further apart than any check reaches,
   // so they run on the threads at once, each cube's moves in vertex order.
+  // Under kMovesByCubes moves, vertex order: the whole tooth at the
+  // defaults, whose cycles move at most about a thousand vertices, met
+  // itself across its pocket (355 mm^2) with every cycle by cubes; where two
+  // fronts meet, the order decides which moves first.
   if (!o_.prevent_self_intersection || o_.obstacle || movers.size() < kMovesByCubes) {
     IntersectionGuard::Checker& checker = checkers_.front();
     for (int k : movers) {
@@ -697,7 +696,8 @@ std::size_t Deformer::apply_moves(const std::vector<int>& candidates, const std:
     // have moved a step into it.
     std::vector<Vec3> at;
     at.reserve(movers.size());
-    for (int k : movers) at.push_back(to_eigen(mesh_.point(Mesh::VertexHandle(candidates[static_cast<std::size_t>(k)]))));
+    for (int k : movers)
+      at.push_back(to_eigen(mesh_.point(Mesh::VertexHandle(candidates[static_cast<std::size_t>(k)]))));
     const CubeColouring cubes =
         colour_by_cubes(movers, at, std::max(guard_->reach() + 2.0 * o_.optimizer.max_step * voxel_, voxel_));
     for (std::size_t c = 0; c < 8; ++c) {

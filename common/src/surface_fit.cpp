@@ -454,7 +454,9 @@ FitResult fit_to_threshold(Mesh& mesh, const Volume& volume, double threshold, c
       for (int attempt = 0; attempt < 3; ++attempt) {
         const Vec3 q = p + (target - p) * std::ldexp(1.0, -attempt);
         if (!volume.contains(q)) continue;  // vertices stay inside the grid
-        if (!guard || (checker ? guard->move_is_safe(v, q, blocker[vi], *checker) : guard->move_is_safe(v, q, blocker[vi]))) {
+        const bool safe =
+            !guard || (checker ? guard->move_is_safe(v, q, blocker[vi], *checker) : guard->move_is_safe(v, q, blocker[vi]));
+        if (safe) {
           blocker[vi] = -1;
           mesh.set_point(v, to_point(q));
           moved[vi] = (q - p).norm() > still;
