@@ -68,9 +68,11 @@ class IntersectionGuard {
   bool move_is_safe(Mesh::VertexHandle v, const Vec3& p, int hint, Checker& checker) const;
   // Takes in a checker's allowed moves (for prepare_moves()) and refusals.
   void absorb(Checker& checker);
-  // A check of a move of v within the margin reads vertices within this
-  // distance of v (its fan, the faces the grid offers near it) and nothing
-  // else of the mesh.
+  // A check of a move of v reads vertices within this distance of v (its
+  // fan, the faces the grid offers near it) and nothing else of the mesh,
+  // as long as every face stays within the box it is registered with: moves
+  // within the margin keep them so, longer ones need their boxes registered
+  // first (note_box(), as the sub-voxel fit does).
   double reach() const { return 2.0 * grid_.widest_box() + margin_; }
 
   // Many moves at once (issue 17: the guard's one-at-a-time checks were the
