@@ -196,6 +196,8 @@ constexpr double kAskAboveFinest = 1.2;
 
 // How far a flip or a collapse of the triangle-quality pass may move the surface, voxels.
 constexpr double kQualityMaxError = 0.1;
+// The triangle-quality pass removes spikes whose ring lies within this radius, voxels.
+constexpr double kSpikeRadius = 0.75;
 
 // The face budget: the fitted model has at least this many times the budget's
 // faces before it is reduced: more faces to choose from, fitted with more
@@ -1620,6 +1622,9 @@ void Deformer::improve_quality(DeformResult& result) {
   q.max_error = kQualityMaxError * voxel_;
   q.prevent_self_intersection = o_.prevent_self_intersection;
   q.obstacle = o_.obstacle;
+  // Needles narrower than a voxel and a half at their base (spikes, the
+  // image does not resolve them): removed.
+  q.spike_radius = o_.obstacle ? 0.0 : kSpikeRadius * voxel_;
   const QualityResult r = improve_triangle_quality(mesh_, q);
   mesh_.release_vertex_status();
   mesh_.release_edge_status();
@@ -1629,6 +1634,7 @@ void Deformer::improve_quality(DeformResult& result) {
   result.quality_splits = r.splits;
   result.quality_collapses = r.collapses;
   result.quality_moves = r.moves;
+  result.quality_spikes = r.spikes;
   result.faces_below_min_angle = r.faces_below;
 }
 

@@ -22,13 +22,18 @@ struct QualityOptions {
                                 // the old faces, a collapsed vertex from the new ones); relaxed vertices
                                 // stay on the old surface of their ring. <= 0: unbounded
   int rounds = 8;               // rounds of flips, collapses and relaxation (stops early when nothing changes)
+  double spike_radius = 0.0;    // mm: a corner of a face below the bound whose neighbours lie within this
+                                // radius of their centroid, and which stands at least four times as far
+                                // from it, is a spike and is removed (collapsed into its nearest
+                                // neighbour) whatever max_error says; <= 0: none removed
   bool prevent_self_intersection = true;  // flips and moves checked by the IntersectionGuard
   const Obstacle* obstacle = nullptr;     // triangles no operation may touch; not owned
 };
 
 struct QualityResult {
   std::size_t flips = 0;          // edge flips made
-  std::size_t collapses = 0;      // short edges collapsed
+  std::size_t collapses = 0;      // short edges collapsed (spikes included)
+  std::size_t spikes = 0;         // of the collapses: spikes removed (spike_radius)
   std::size_t splits = 0;         // long edges of caps split at the foot of the cap's apex
   std::size_t moves = 0;          // vertex moves of the relaxation
   std::size_t faces_below = 0;    // faces still with an angle below min_angle after the pass
@@ -43,8 +48,11 @@ double triangle_min_angle(const Vec3& a, const Vec3& b, const Vec3& c);
 // round, faces worst first: (1) edge flips that raise the smallest angle of
 // the two faces; (2) caps (an angle above 120 degrees at the apex) split at
 // the foot of the apex on the long edge (the new faces lie inside the old
-// ones); (3) collapses of an edge of each face still below the bound
-// (shortest first; into either end, else into a point between them), when
+// ones); (3) collapses of an edge of each face still below the bound: a
+// corner that is a thin spike (spike_radius) removed first, its new faces
+// free of intersections and facing the way its ring's other faces face;
+// else an edge (shortest first; into either end, else into a point between
+// them), when
 // no face turns by more than 45 degrees and no new face falls below the
 // bound unless the smallest angle around rises; (4) tangential relaxation of
 // the corners of faces still below the bound: a vertex moves toward the
