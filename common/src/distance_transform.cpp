@@ -63,7 +63,11 @@ std::vector<double> squared_distance_to(const std::vector<char>& sites, const In
   const std::size_t stride[3] = {1, static_cast<std::size_t>(n[0]), static_cast<std::size_t>(n[0]) * n[1]};
   const int workers = resolve_thread_count(threads);
   for (int axis = 0; axis < 3; ++axis) {
-    const int u = (axis + 1) % 3, w = (axis + 2) % 3;
+    // Lines next to each other in memory first (u the faster of the two
+    // other axes): the workers read and write them in runs of adjacent
+    // lines, whose cache lines are shared (the y pass went along z and ran
+    // three times slower).
+    const int u = axis == 0 ? 1 : 0, w = axis == 2 ? 1 : 2;
     const std::size_t length = static_cast<std::size_t>(n[axis]);
     // One line per index, each written by one worker: the same result on
     // any number of them (an axis's lines share no voxel).
