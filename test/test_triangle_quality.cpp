@@ -202,6 +202,8 @@ TEST(TriangleQuality, removes_needles_and_caps_of_a_damaged_sphere) {
 // the rest of the sphere kept; without, or when wider than spike_radius,
 // they stay (here flips of their bases mend their angles; on the T1 head
 // nothing did).
+namespace {
+
 Mesh spiked_sphere() {
   const Mesh sphere = make_geodesic_sphere(Vec3::Zero(), 10.0, 3);
   Mesh mesh;
@@ -231,6 +233,8 @@ Mesh spiked_sphere() {
   }
   return mesh;
 }
+
+}  // namespace
 
 TEST(TriangleQuality, removes_thin_spikes_narrower_than_spike_radius) {
   const auto farthest = [](const Mesh& m) {

@@ -65,8 +65,8 @@ std::vector<double> squared_distance_to(const std::vector<char>& sites, const In
   for (int axis = 0; axis < 3; ++axis) {
     // Lines next to each other in memory first (u the faster of the two
     // other axes): the workers read and write them in runs of adjacent
-    // lines, whose cache lines are shared (the y pass went along z and ran
-    // three times slower).
+    // lines, whose cache lines are shared (the y pass went along z: the
+    // whole transform of a 208 x 276 x 210 box took 0.48 s instead of 0.43).
     const int u = axis == 0 ? 1 : 0, w = axis == 2 ? 1 : 2;
     const std::size_t length = static_cast<std::size_t>(n[axis]);
     // One line per index, each written by one worker: the same result on

@@ -498,7 +498,8 @@ constexpr double kSpikeHeight = 4.0;
 // Whether v is a spike: its neighbours within spike_radius of their
 // centroid, v at least kSpikeHeight times as far from it. On the models of
 // the scans these are needles of three faces around a vertex of valence
-// three, two to six voxels tall on a base a fifth to half a voxel across,
+// three, two to six voxels tall over a base whose corners lie a fifth to
+// three fifths of a voxel from its centre,
 // which no flip (valence three), move or collapse within the error bounds
 // mends (measured on the T1 head at the defaults: 22 of its 33 faces left
 // below 10 degrees, 2 of the CT series' 3); the image there does not hold a
