@@ -523,7 +523,9 @@ bool QualityPass::is_thin_spike(Mesh::VertexHandle v) const {
 // the link condition, the exact intersection tests of CollapseChecker (its
 // normal test off: the new faces turn by about a right angle from the
 // spike's sides), and every new face facing the way the faces around the
-// ring face (their area-weighted normal), none touching the obstacle.
+// ring face (the sum of their area vectors, a face once per ring vertex it
+// touches: only the sign of each new face's product with it counts), none
+// touching the obstacle.
 bool QualityPass::remove_spike(Mesh::VertexHandle v) {
   Vec3 ring_normal = Vec3::Zero();
   for (auto w : mesh_.vv_range(v))
