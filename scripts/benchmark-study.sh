@@ -11,6 +11,8 @@
 # Other arguments go to gdm_benchmark_study (--runs N, --threads N, --out DIR, --budget SECONDS,
 # --only WORD: only the cases whose id contains WORD, repeatable, e.g. --only bottle --only channels,
 # --only topo for the topology group (hollow sphere, tori, whole tooth);
+# --noise-sigma S: the Gaussian-noise phantoms' sigma (default 20, 13 % of the contrast 150),
+# --noise-seed N: their noise fields from seed N on (default 7), to try other noise than the report's;
 # with --only, pass an --out other than docs/benchmarks so the full report stays whole).
 # GDM_BUILD_DIR picks the build folder (default build/); GDM_SHARED_DIR the
 # folder holding data/ (default ../shared); GDM_STUDY_CMAKE_ARGS extra CMake arguments.

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <random>
+#include <sstream>
 #include <stdexcept>
 
 #include "gdm/phantoms.h"
@@ -218,15 +219,17 @@ std::array<int, 3> central_seed_voxel(const Image& image, double threshold, bool
 
 double Case::voxel_size() const { return std::min({image.spacing[0], image.spacing[1], image.spacing[2]}); }
 
-CaseSet phantom_cases(bool quick) {
+CaseSet phantom_cases(bool quick, const PhantomNoise& noise) {
   CaseSet set;
-  unsigned seed = 7;
+  unsigned seed = noise.seed;
   for (const Shape& s : shapes(quick)) {
     const gdm::Volume clean = ph::voxelize(s.grid, s.sdf, kBackground, kContrast);
     set.cases.push_back(phantom_case(s, "clean", clean));
     if (quick) break;
-    Case g = phantom_case(s, "Gaussian noise", ph::with_gaussian_noise(clean, 20.0, seed++));
-    g.note = "Gaussian noise, sigma 20 (contrast 150)";
+    Case g = phantom_case(s, "Gaussian noise", ph::with_gaussian_noise(clean, noise.sigma, seed++));
+    std::ostringstream note;
+    note << "Gaussian noise, sigma " << noise.sigma << " (contrast " << kContrast << ")";
+    g.note = note.str();
     set.cases.push_back(std::move(g));
     {
       // Salt and pepper: 10% of the inside voxels set to the background, 1% of the outside ones to the object.

@@ -52,8 +52,15 @@ struct CaseSet {
   std::vector<std::string> skipped;  // "name: reason"
 };
 
+// The Gaussian-noise phantoms' noise: sigma in the image's units (the
+// contrast is 150) and the first seed of the noise fields (one per shape).
+struct PhantomNoise {
+  double sigma = 20.0;  // 13 % of the contrast
+  unsigned seed = 7;
+};
+
 // quick: one small phantom only.
-CaseSet phantom_cases(bool quick);
+CaseSet phantom_cases(bool quick, const PhantomNoise& noise = {});
 CaseSet scan_cases(const std::string& data_dir);
 // Opened bottles and the channel phantom (issue 14): where a method leaks
 // through an opening narrower than the gap, or misses a channel wider than it.

@@ -5,6 +5,7 @@
 //
 //   gdm_benchmark_study --out DIR [--quick] [--runs N] [--threads N]
 //                       [--data DIR] [--commit TEXT] [--budget SECONDS]
+//                       [--noise-sigma S] [--noise-seed N]
 //
 // Run it under xvfb-run on a machine without a display (VTK renders offscreen
 // through an X server). scripts/benchmark-study.sh runs the whole study.
@@ -54,6 +55,7 @@ struct Settings {
   bool sweep_cgal = false;         // --faces-sweep: CGAL Mesh_3 matched to gdm's counts too (slow)
   bool sweep_scans = false;        // --faces-sweep: the real scans (--data) instead of the phantoms
   std::vector<double> budgets;     // --faces-sweep: face budgets as counts (instead of --fractions)
+  PhantomNoise noise;              // the Gaussian-noise phantoms' sigma and first seed
 };
 
 void write_off(const fs::path& file, const Surface& s) {
@@ -843,7 +845,7 @@ int faces_sweep(const Settings& s) {
     csv << "case,fraction,fe_faces,method,faces,mean_vox,p95_vox,seconds\n";
   }
   std::printf("| phantom | budget | gdm faces | gdm mean / p95 | chain faces | chain mean / p95 | gdm s |\n|---|---|---|---|---|---|---|\n");
-  const CaseSet set = s.sweep_scans ? scan_cases(s.data) : phantom_cases(false);
+  const CaseSet set = s.sweep_scans ? scan_cases(s.data) : phantom_cases(false, s.noise);
   for (const std::string& why : set.skipped) std::fprintf(stderr, "skipped: %s\n", why.c_str());
   for (const Case& c : set.cases) {
     if (!s.only.empty() && std::none_of(s.only.begin(), s.only.end(),
@@ -903,7 +905,7 @@ int run(const Settings& s) {
   const auto ms = methods();
 
   std::vector<CaseSet> sets;
-  sets.push_back(phantom_cases(s.quick));
+  sets.push_back(phantom_cases(s.quick, s.noise));
   sets.push_back(opening_cases(s.quick));
   if (!s.quick) sets.push_back(scan_cases(s.data));
   if (!s.quick) sets.push_back(topology_cases(s.data));
@@ -1254,6 +1256,11 @@ int main(int argc, char** argv) {
       else if (a == "--budget") s.method_budget = std::stod(value());
       else if (a == "--only") s.only.push_back(value());
       else if (a == "--dump") s.dump = true;
+      else if (a == "--noise-sigma") {
+        s.noise.sigma = std::stod(value());
+        if (!(s.noise.sigma >= 0.0)) throw std::invalid_argument("sigma");
+      }
+      else if (a == "--noise-seed") s.noise.seed = static_cast<unsigned>(std::stoul(value()));
       else if (a == "--faces-sweep") s.faces_sweep = true;
       else if (a == "--sweep-cgal") s.sweep_cgal = true;
       else if (a == "--sweep-scans") s.sweep_scans = true;
@@ -1268,7 +1275,7 @@ int main(int argc, char** argv) {
       }
       else {
         std::fprintf(stderr, "gdm_benchmark_study: unknown argument '%s'\nusage: gdm_benchmark_study --out DIR [--quick] "
-                             "[--runs N] [--threads N] [--data DIR] [--commit TEXT] [--budget SECONDS] [--only CASE-ID-PART]... [--dump] [--faces-sweep [--fractions F,F,...|--budgets N,N,...] [--sweep-cgal] [--sweep-scans]]\n", a.c_str());
+                             "[--runs N] [--threads N] [--data DIR] [--commit TEXT] [--budget SECONDS] [--only CASE-ID-PART]... [--dump] [--noise-sigma S] [--noise-seed N] [--faces-sweep [--fractions F,F,...|--budgets N,N,...] [--sweep-cgal] [--sweep-scans]]\n", a.c_str());
         return 2;
       }
     } catch (const std::exception&) {
