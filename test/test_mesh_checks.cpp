@@ -173,6 +173,11 @@ TEST(MeshChecks, cube_far_from_origin_has_analytic_volume_and_area) {
   EXPECT_NEAR(r.volume, 8.0, 1e-9);
   EXPECT_NEAR(r.area, 24.0, 1e-9);
   EXPECT_NEAR(r.min_angle_deg, 45.0, 1e-9);
+  // A cube's edges fold by a right angle, the diagonals within a side not at all.
+  EXPECT_NEAR(r.max_fold_deg, 90.0, 1e-9);
+  EXPECT_EQ(r.folds, 0u);
+  EXPECT_EQ(gdm::folded_edges(mesh, 89.0), 12u);
+  EXPECT_EQ(gdm::folded_edges(mesh, 0.5), 12u);
 }
 
 TEST(MeshChecks, inward_oriented_cube_has_negative_volume) {
@@ -416,17 +421,66 @@ TEST(MeshChecks, measure_is_the_same_for_any_thread_count) {
     EXPECT_EQ(r.volume, one.volume) << threads << " threads";
     EXPECT_EQ(r.area, one.area) << threads << " threads";
     EXPECT_EQ(r.min_angle_deg, one.min_angle_deg) << threads << " threads";
+    EXPECT_EQ(r.max_fold_deg, one.max_fold_deg) << threads << " threads";
+    EXPECT_EQ(r.folds, one.folds) << threads << " threads";
   }
+  EXPECT_EQ(one.max_fold_deg, gdm::sharpest_fold_degrees(mesh));
+  EXPECT_EQ(one.folds, gdm::folded_edges(mesh));
   EXPECT_EQ(one.min_angle_deg, gdm::smallest_angle_degrees(mesh));
   EXPECT_EQ(one.volume, gdm::enclosed_volume(mesh));
   EXPECT_EQ(one.area, gdm::surface_area(mesh));
+}
+
+// A closed triangular prism whose cross-section has an apex angle of
+// `apex` degrees: its two sides at the apex meet in a wedge, their normals
+// turn by 180 - apex across the apex edge.
+Mesh make_wedge(double apex, double length) {
+  Mesh mesh;
+  const double half = 0.5 * apex * M_PI / 180.0;
+  const Vec3 tip(0, 0, 0), b(std::cos(half), std::sin(half), 0), c(std::cos(half), -std::sin(half), 0);
+  std::array<Mesh::VertexHandle, 6> v;
+  for (int k = 0; k < 2; ++k) {
+    const Vec3 z(0, 0, k * length);
+    v[3 * k] = mesh.add_vertex(gdm::to_point(tip + z));
+    v[3 * k + 1] = mesh.add_vertex(gdm::to_point(b + z));
+    v[3 * k + 2] = mesh.add_vertex(gdm::to_point(c + z));
+  }
+  mesh.add_face(v[0], v[1], v[2]);  // bottom, normal -z
+  mesh.add_face(v[3], v[5], v[4]);  // top, normal +z
+  const auto side = [&](int i, int j) {  // the quad between bottom edge i-j and its top copy
+    mesh.add_face(v[i], v[j], v[j + 3]);
+    mesh.add_face(v[i], v[j + 3], v[i + 3]);
+  };
+  side(0, 2);
+  side(2, 1);
+  side(1, 0);
+  return mesh;
+}
+
+TEST(MeshChecks, wedge_folds_by_its_supplement_at_the_apex) {
+  for (const double apex : {10.0, 30.0}) {
+    const Mesh mesh = make_wedge(apex, 3.0);
+    const gdm::MeshReport r = gdm::measure(mesh);
+    ASSERT_TRUE(r.closed && r.two_manifold) << apex;
+    ASSERT_GT(r.volume, 0.0) << apex;  // outward faces: the folds are the solid's own
+    EXPECT_NEAR(r.max_fold_deg, 180.0 - apex, 1e-9) << apex;
+    EXPECT_EQ(r.max_fold_deg, gdm::sharpest_fold_degrees(mesh)) << apex;
+    // Beyond kFoldDegrees (160): the 10-degree wedge's apex edge only.
+    EXPECT_EQ(r.folds, apex < 20.0 ? 1u : 0u) << apex;
+    // The other edges: the caps' six rims fold by 90 degrees, the sides'
+    // diagonals by nothing, the two other long edges by 180 minus the base
+    // angle (85 or 75 degrees): 95 or 105.
+    EXPECT_EQ(gdm::folded_edges(mesh, 100.0), apex < 20.0 ? 1u : 3u) << apex;
+    EXPECT_EQ(gdm::folded_edges(mesh, 80.0), 9u) << apex;
+    EXPECT_EQ(gdm::folded_edges(mesh, 1.0), 9u) << apex;
+  }
 }
 
 TEST(MeshChecks, report_line_names_every_field) {
   const std::string line = gdm::to_string(gdm::measure(make_tetrahedron()));
   for (const char* key : {"V=4", "F=4", "E=6", "closed=yes", "two_manifold=yes", "chi=2",
                           "genus=0", "components=1", "self_intersections=0", "volume=",
-                          "area=", "min_angle_deg=45"})
+                          "area=", "min_angle_deg=45", "max_fold_deg=", "folds=0"})
     EXPECT_NE(line.find(key), std::string::npos) << key << " in " << line;
   EXPECT_EQ(line.find('\n'), std::string::npos);
 }

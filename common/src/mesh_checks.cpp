@@ -299,7 +299,42 @@ double smallest_angle_of(const std::vector<FaceData>& faces, int threads) {
   return smallest * (180.0 / 3.14159265358979323846);
 }
 
+// Every edge's fold (mesh_checks.h), degrees, in parallel; -1 for an edge
+// without two faces.
+std::vector<double> edge_folds(const Mesh& mesh, int threads) {
+  std::vector<double> fold(mesh.n_edges(), -1.0);
+  parallel_for(fold.size(), resolve_thread_count(threads), [&](std::size_t i) {
+    const Mesh::EdgeHandle e(static_cast<int>(i));
+    if (mesh.has_edge_status() && mesh.status(e).deleted()) return;
+    const auto f0 = mesh.face_handle(mesh.halfedge_handle(e, 0)), f1 = mesh.face_handle(mesh.halfedge_handle(e, 1));
+    if (!f0.is_valid() || !f1.is_valid()) return;
+    const auto normal = [&](Mesh::FaceHandle f) {
+      auto it = mesh.cfv_iter(f);
+      const Vec3 a = to_eigen(mesh.point(*it)), b = to_eigen(mesh.point(*++it)), c = to_eigen(mesh.point(*++it));
+      return Vec3((b - a).cross(c - a));
+    };
+    const Vec3 n0 = normal(f0), n1 = normal(f1);
+    // atan2 of |n0 x n1| and n0 . n1: accurate near 0 and 180 degrees.
+    fold[i] = n0.isZero() || n1.isZero() ? 0.0 : std::atan2(n0.cross(n1).norm(), n0.dot(n1)) * (180.0 / 3.14159265358979323846);
+  });
+  return fold;
+}
+
+double sharpest_of(const std::vector<double>& folds) {
+  double sharpest = 0.0;
+  for (double f : folds) sharpest = std::max(sharpest, f);
+  return sharpest;
+}
+
+std::size_t count_beyond(const std::vector<double>& folds, double degrees) {
+  return static_cast<std::size_t>(std::count_if(folds.begin(), folds.end(), [&](double f) { return f > degrees; }));
+}
+
 }  // namespace
+
+double sharpest_fold_degrees(const Mesh& mesh) { return sharpest_of(edge_folds(mesh, 1)); }
+
+std::size_t folded_edges(const Mesh& mesh, double degrees) { return count_beyond(edge_folds(mesh, 1), degrees); }
 
 std::size_t self_intersecting_pairs(const Mesh& mesh, int threads) {
   return intersecting_pairs_among(collect_faces(mesh, threads), threads);
@@ -330,6 +365,9 @@ MeshReport measure(const Mesh& mesh, int threads) {
   r.volume = volume_of(mesh, faces);
   r.area = area_of(faces);
   r.min_angle_deg = smallest_angle_of(faces, threads);
+  const std::vector<double> folds = edge_folds(mesh, threads);
+  r.max_fold_deg = sharpest_of(folds);
+  r.folds = count_beyond(folds, kFoldDegrees);
   return r;
 }
 
@@ -343,7 +381,7 @@ std::string to_string(const MeshReport& r) {
       << " components=" << r.components
       << " self_intersections=" << r.self_intersections
       << " volume=" << r.volume << " area=" << r.area
-      << " min_angle_deg=" << r.min_angle_deg;
+      << " min_angle_deg=" << r.min_angle_deg << " max_fold_deg=" << r.max_fold_deg << " folds=" << r.folds;
   return out.str();
 }
 

@@ -86,6 +86,8 @@ std::string summary_text(const RunRecord& r) {
     << "  smallest angle " << fixed(m.min_angle_deg, 2) << " deg";
   if (r.model.faces_below_min_angle > 0)
     s << " (" << r.model.faces_below_min_angle << " faces left below --min-angle)";
+  s << "; sharpest fold " << fixed(m.max_fold_deg, 1) << " deg";
+  if (m.folds > 0) s << " (" << m.folds << " edges folded beyond " << fixed(gdm::kFoldDegrees, 0) << " deg)";
   s << "\n"
     << "  volume " << fixed(m.volume, 1) << " mm^3 = " << fixed(m.volume / 1000.0, 3) << " ml, area "
     << fixed(m.area, 1) << " mm^2\n"
@@ -240,6 +242,8 @@ std::string report_json(const RunRecord& r, const Options& options) {
       .add("volume_ml", json_number(m.volume / 1000.0))
       .add("area_mm2", json_number(m.area))
       .add("min_angle_deg", json_number(m.min_angle_deg))
+      .add("max_fold_deg", json_number(m.max_fold_deg))
+      .add("folds", json_number(m.folds))
       .add("bounds_min_mm", json_array(r.low))
       .add("bounds_max_mm", json_array(r.high))
       .add("max_generation", json_number(r.max_generation));

@@ -590,6 +590,8 @@ py::dict mesh_report(const gdm::Mesh& mesh, const gdm::MeshReport& r) {
   d["volume_ml"] = r.volume / 1000.0;
   d["area_mm2"] = r.area;
   d["min_angle_deg"] = r.min_angle_deg;
+  d["max_fold_deg"] = r.max_fold_deg;
+  d["folds"] = r.folds;
   gdm::Vec3 lo = gdm::Vec3::Zero(), hi = gdm::Vec3::Zero();
   bool first = true;
   for (auto v : mesh.vertices()) {

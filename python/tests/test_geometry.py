@@ -149,6 +149,9 @@ def test_generation_and_report():
     assert set(o["name"] for o in gdm.options()) <= set(p)
     assert r.report["threshold"] == {"value": 50.0, "source": "given"}
     assert r.report["model"]["stop_reason"] == "converged"
+    # A smooth sphere's model: no edge folds anywhere near a fin's 160 degrees.
+    m = r.report["mesh"]
+    assert 0.0 < m["max_fold_deg"] < 90.0 and m["folds"] == 0
     otsu = gdm.extract_surface(volume)
     assert otsu.report["threshold"]["source"] == "otsu"
 

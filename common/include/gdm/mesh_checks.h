@@ -54,6 +54,19 @@ double surface_area(const Mesh& mesh);
 // zero-length edge). NaN for a mesh without faces.
 double smallest_angle_degrees(const Mesh& mesh);
 
+// Folds: an edge folds by the angle between the normals of its two faces
+// (0 flat, 90 a cube's edge, 180 two faces folded flat onto each other).
+// An edge folding by more than kFoldDegrees is a wedge thinner than 20
+// degrees: a fin, a crumple where a model's fronts met, a pleat.
+constexpr double kFoldDegrees = 160.0;
+
+// The largest fold of any edge with two faces, degrees (0 for a mesh
+// without such an edge; a degenerate face folds by nothing).
+double sharpest_fold_degrees(const Mesh& mesh);
+
+// Number of edges folding by more than `degrees`.
+std::size_t folded_edges(const Mesh& mesh, double degrees = kFoldDegrees);
+
 // Everything above in one record.
 struct MeshReport {
   std::size_t vertices = 0;
@@ -69,6 +82,8 @@ struct MeshReport {
   double volume = 0.0;
   double area = 0.0;
   double min_angle_deg = 0.0;
+  double max_fold_deg = 0.0;  // sharpest_fold_degrees
+  std::size_t folds = 0;      // folded_edges beyond kFoldDegrees
 };
 
 // Measures all fields of MeshReport (self-intersections included, on up to
