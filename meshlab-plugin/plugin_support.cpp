@@ -28,7 +28,8 @@ void log_result(const gdm::PipelineResult& r, LogLines* log) {
   if (d.quality_flips + d.quality_splits + d.quality_collapses + d.quality_moves > 0)
     log->push_back("triangle quality: " + std::to_string(d.quality_flips) + " flips, " +
                    std::to_string(d.quality_splits) + " splits, " + std::to_string(d.quality_collapses) +
-                   " collapses (" + std::to_string(d.quality_spikes) + " spikes removed), " +
+                   " collapses (" + std::to_string(d.quality_spikes) + " spikes removed, " +
+                   std::to_string(d.quality_unfolds) + " folded edges), " +
                    std::to_string(d.quality_moves) + " moves; smallest angle " +
                    fmt(r.report.min_angle_deg) + " degrees");
   if (d.faces_below_min_angle > 0)

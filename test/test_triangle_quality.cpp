@@ -234,7 +234,59 @@ Mesh spiked_sphere() {
   return mesh;
 }
 
+// A geodesic sphere (radius 10 mm) whose edge from vertex 0 to its first
+// neighbour is raised `height` mm along the outward normal: a fin, the two
+// faces across that edge a wedge folded beyond kFoldDegrees (as where a
+// model's fronts met).
+Mesh finned_sphere(double height) {
+  Mesh mesh = make_geodesic_sphere(Vec3::Zero(), 10.0, 3);
+  const Mesh::VertexHandle a(0);
+  const Mesh::VertexHandle b = *mesh.vv_range(a).begin();
+  for (auto v : {a, b}) {
+    const Vec3 p = to_eigen(mesh.point(v));
+    mesh.set_point(v, to_point(p + height * p.normalized()));
+  }
+  return mesh;
+}
+
 }  // namespace
+
+TEST(TriangleQuality, unfold_collapses_the_folded_edges_of_a_fin) {
+  QualityOptions o;
+  o.min_angle = 0.0;  // no angle rounds: the fold phase alone
+  o.max_error = 0.0;  // unbounded: the fin's ridge is 16 mm above the sphere
+  Mesh kept = finned_sphere(16.0);
+  test::expect_valid_closed_surface(kept);
+  const std::size_t folds = folded_edges(kept);
+  ASSERT_GE(folds, 1u);
+  ASSERT_GT(sharpest_fold_degrees(kept), kFoldDegrees);
+  // Off (the default for direct callers): nothing changes.
+  const QualityResult off = improve_triangle_quality(kept, o);
+  EXPECT_EQ(off.unfolds, 0u);
+  EXPECT_EQ(folded_edges(kept), folds);
+  // On: the ridge's edge collapsed into one end, a spike left, no fold.
+  Mesh mesh = finned_sphere(16.0);
+  o.unfold = true;
+  const QualityResult on = improve_triangle_quality(mesh, o);
+  std::printf("finned sphere: %zu folded edges (sharpest %.1f deg) -> %zu (%.1f), %zu collapses\n", folds,
+              sharpest_fold_degrees(kept), folded_edges(mesh), sharpest_fold_degrees(mesh), on.unfolds);
+  EXPECT_GE(on.unfolds, 1u);
+  EXPECT_EQ(on.collapses, on.unfolds);
+  EXPECT_EQ(folded_edges(mesh), 0u);
+  EXPECT_LT(sharpest_fold_degrees(mesh), sharpest_fold_degrees(kept));
+  EXPECT_EQ(mesh.n_vertices() + on.unfolds, kept.n_vertices());
+  test::expect_valid_closed_surface(mesh);
+  // Every vertex but the ridge's kept end is where it was, on the sphere.
+  std::size_t raised = 0;
+  for (auto v : mesh.vertices()) {
+    const double r = to_eigen(mesh.point(v)).norm();
+    if (r > 10.5)
+      ++raised;
+    else
+      EXPECT_NEAR(r, 10.0, 1e-9);
+  }
+  EXPECT_EQ(raised, 1u);
+}
 
 TEST(TriangleQuality, removes_thin_spikes_narrower_than_spike_radius) {
   const auto farthest = [](const Mesh& m) {

@@ -1625,6 +1625,9 @@ void Deformer::improve_quality(DeformResult& result) {
   // Needles narrower than a voxel and a half at their base (spikes, the
   // image does not resolve them): removed.
   q.spike_radius = o_.obstacle ? 0.0 : kSpikeRadius * voxel_;
+  // Crumples where the model's fronts met (fins, flaps folded onto each
+  // other): their folded edges collapsed where that leaves fewer folds.
+  q.unfold = !o_.obstacle;
   const QualityResult r = improve_triangle_quality(mesh_, q);
   mesh_.release_vertex_status();
   mesh_.release_edge_status();
@@ -1635,6 +1638,7 @@ void Deformer::improve_quality(DeformResult& result) {
   result.quality_collapses = r.collapses;
   result.quality_moves = r.moves;
   result.quality_spikes = r.spikes;
+  result.quality_unfolds = r.unfolds;
   result.faces_below_min_angle = r.faces_below;
 }
 

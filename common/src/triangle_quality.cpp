@@ -154,6 +154,8 @@ class QualityPass {
   bool is_thin_spike(Mesh::VertexHandle v) const;
   bool remove_spike(Mesh::VertexHandle v);
   bool collapse_to(Mesh::HalfedgeHandle h, double where, const CollapseOptions& co);
+  std::size_t unfold_phase();
+  bool unfold(Mesh::EdgeHandle e);
   bool blocked(const Tri& t) const { return o_.obstacle && o_.obstacle->blocks(t); }
 
   Mesh& mesh_;
@@ -564,6 +566,179 @@ bool QualityPass::remove_spike(Mesh::VertexHandle v) {
   return false;
 }
 
+// The angle between the normals of two triangles, degrees (0: flat, 180:
+// folded flat onto each other; 0 when either is degenerate), as
+// mesh_checks.h measures an edge's fold.
+double fold_between(const Tri& a, const Tri& b) {
+  const Vec3 na = (a[1] - a[0]).cross(a[2] - a[0]), nb = (b[1] - b[0]).cross(b[2] - b[0]);
+  if (na.isZero() || nb.isZero()) return 0.0;
+  return std::atan2(na.cross(nb).norm(), na.dot(nb)) * (180.0 / M_PI);
+}
+
+// The folds around a collapse of h (mesh_checks.h, kFoldDegrees): the
+// sharpest fold and the number of edges beyond kFoldDegrees over the edges
+// of the faces around either end, before the collapse and after it.
+struct CollapseFolds {
+  double sharpest_before = 0.0, sharpest_after = 0.0;
+  int folded_before = 0, folded_after = 0;
+};
+
+CollapseFolds folds_of_collapse(const Mesh& mesh, Mesh::HalfedgeHandle h) {
+  const auto v0 = mesh.from_vertex_handle(h), v1 = mesh.to_vertex_handle(h);
+  const auto gone0 = mesh.face_handle(h), gone1 = mesh.face_handle(mesh.opposite_halfedge_handle(h));
+  const auto triangle = [&](const std::array<int, 3>& c) {
+    return Tri{pos(mesh, Mesh::VertexHandle(c[0])), pos(mesh, Mesh::VertexHandle(c[1])), pos(mesh, Mesh::VertexHandle(c[2]))};
+  };
+  const auto corner_ids = [&](Mesh::FaceHandle g) {
+    const auto c = corners(mesh, g);
+    return std::array<int, 3>{c[0].idx(), c[1].idx(), c[2].idx()};
+  };
+  CollapseFolds r;
+  // Before: every edge of the faces around either end, once.
+  std::vector<Mesh::FaceHandle> patch;
+  for (auto v : {v0, v1})
+    for (auto g : mesh.vf_range(v))
+      if (std::find(patch.begin(), patch.end(), g) == patch.end()) patch.push_back(g);
+  std::vector<int> edges;
+  for (auto g : patch)
+    for (auto e : mesh.fe_range(g)) edges.push_back(e.idx());
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  for (int i : edges) {
+    const Mesh::EdgeHandle e(i);
+    const auto f0 = mesh.face_handle(mesh.halfedge_handle(e, 0)), f1 = mesh.face_handle(mesh.halfedge_handle(e, 1));
+    if (!f0.is_valid() || !f1.is_valid()) continue;
+    for (auto g : {f0, f1})
+      if (std::find(patch.begin(), patch.end(), g) == patch.end()) patch.push_back(g);
+    const double f = fold_between(triangle(corner_ids(f0)), triangle(corner_ids(f1)));
+    r.sharpest_before = std::max(r.sharpest_before, f);
+    r.folded_before += f > kFoldDegrees ? 1 : 0;
+  }
+  // After: v0 replaced by v1, the two faces of h gone; the edges of the
+  // faces around v1 then, each once.
+  std::vector<std::array<int, 3>> after;
+  std::vector<char> around;
+  for (auto g : patch) {
+    if (g == gone0 || g == gone1) continue;
+    std::array<int, 3> c = corner_ids(g);
+    bool at_v1 = false;
+    for (int& w : c) {
+      if (w == v0.idx()) w = v1.idx();
+      at_v1 = at_v1 || w == v1.idx();
+    }
+    after.push_back(c);
+    around.push_back(at_v1);
+  }
+  for (std::size_t i = 0; i < after.size(); ++i) {
+    if (!around[i]) continue;
+    for (int k = 0; k < 3; ++k) {
+      const int a = after[i][static_cast<std::size_t>(k)], b = after[i][static_cast<std::size_t>((k + 1) % 3)];
+      for (std::size_t j = 0; j < after.size(); ++j) {
+        if (j == i || (around[j] && j < i)) continue;
+        bool across = false;
+        for (int m = 0; m < 3; ++m)
+          across = across || (after[j][static_cast<std::size_t>(m)] == b && after[j][static_cast<std::size_t>((m + 1) % 3)] == a);
+        if (!across) continue;
+        const double f = fold_between(triangle(after[i]), triangle(after[j]));
+        r.sharpest_after = std::max(r.sharpest_after, f);
+        r.folded_after += f > kFoldDegrees ? 1 : 0;
+      }
+    }
+  }
+  return r;
+}
+
+// Collapses an edge folded beyond kFoldDegrees into either end when that
+// leaves fewer folded edges around and none sharper than the sharpest
+// there was, under the collapse phase's other rules: the link condition,
+// CollapseChecker's exact intersection tests (its normal test off: in a
+// crumple every collapse turns some face by more than 45 degrees), no new
+// face below the bound unless the smallest angle around rises, the removed
+// vertex within the error bound of the new faces, the obstacle.
+bool QualityPass::unfold(Mesh::EdgeHandle e) {
+  CollapseOptions co;
+  co.min_angle = 0.0;
+  co.max_normal_change = 180.0;
+  for (int side = 0; side < 2; ++side) {
+    const auto h = mesh_.halfedge_handle(e, side);
+    if (!collapse_keeps_topology(mesh_, h)) continue;
+    const auto v0 = mesh_.from_vertex_handle(h), v1 = mesh_.to_vertex_handle(h);
+    const auto gone0 = mesh_.face_handle(h), gone1 = mesh_.face_handle(mesh_.opposite_halfedge_handle(h));
+    std::vector<Tri> created;
+    bool touches = false;
+    double before = std::min(face_min_angle(mesh_, gone0), face_min_angle(mesh_, gone1)), after = 180.0;
+    for (auto g : mesh_.vf_range(v0)) {
+      if (g == gone0 || g == gone1) continue;
+      before = std::min(before, face_min_angle(mesh_, g));
+      Tri t;
+      int i = 0;
+      for (auto w : mesh_.fv_range(g)) t[i++] = w == v0 ? pos(mesh_, v1) : pos(mesh_, w);
+      after = std::min(after, triangle_min_angle(t[0], t[1], t[2]));
+      touches = touches || blocked(t);
+      created.push_back(t);
+    }
+    if (touches || (after < bound_ && !(after > before + 1e-6))) continue;
+    if (max_error_ > 0.0 && distance_to(pos(mesh_, v0), created) > max_error_) continue;
+    const CollapseFolds f = folds_of_collapse(mesh_, h);
+    if (f.folded_after >= f.folded_before || f.sharpest_after > f.sharpest_before) continue;
+    if (!checker().geometry_ok(h, co)) continue;
+    mesh_.collapse(h);
+    checker().note_vertex(v1);
+    watch_faces_around(v1);
+    return true;
+  }
+  return false;
+}
+
+// Rounds of unfold() over the edges folded beyond kFoldDegrees, in index
+// order: every edge first, then the edges around the vertices the last
+// round's collapses kept (only there did a fold change), until a round
+// collapses none (at most o_.rounds). The garbage is collected once, at the
+// end.
+std::size_t QualityPass::unfold_phase() {
+  mesh_.request_vertex_status();
+  mesh_.request_edge_status();
+  mesh_.request_halfedge_status();
+  mesh_.request_face_status();
+  checker_current_ = false;
+  const auto folded = [&](Mesh::EdgeHandle e) {
+    if (mesh_.status(e).deleted() || mesh_.is_boundary(e)) return false;
+    const auto t0 = corners(mesh_, mesh_.face_handle(mesh_.halfedge_handle(e, 0)));
+    const auto t1 = corners(mesh_, mesh_.face_handle(mesh_.halfedge_handle(e, 1)));
+    return fold_between(Tri{pos(mesh_, t0[0]), pos(mesh_, t0[1]), pos(mesh_, t0[2])},
+                        Tri{pos(mesh_, t1[0]), pos(mesh_, t1[1]), pos(mesh_, t1[2])}) > kFoldDegrees;
+  };
+  std::vector<int> edges;
+  for (auto e : mesh_.edges())
+    if (folded(e)) edges.push_back(e.idx());
+  std::size_t total = 0;
+  std::vector<Mesh::VertexHandle> kept;
+  for (int round = 0; round < o_.rounds && !edges.empty(); ++round) {
+    kept.clear();
+    for (int i : edges) {
+      const Mesh::EdgeHandle e(i);
+      if (!folded(e)) continue;
+      const auto ends = std::array<Mesh::VertexHandle, 2>{mesh_.from_vertex_handle(mesh_.halfedge_handle(e, 0)),
+                                                          mesh_.to_vertex_handle(mesh_.halfedge_handle(e, 0))};
+      if (!unfold(e)) continue;
+      ++total;
+      kept.push_back(mesh_.status(ends[0]).deleted() ? ends[1] : ends[0]);
+    }
+    edges.clear();
+    for (auto v : kept) {
+      if (mesh_.status(v).deleted()) continue;
+      for (auto f : mesh_.vf_range(v))
+        for (auto e : mesh_.fe_range(f))
+          if (folded(e)) edges.push_back(e.idx());
+    }
+    std::sort(edges.begin(), edges.end());
+    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  }
+  collect_garbage();
+  if (total > 0) guard_is_stale();
+  return total;
+}
+
 constexpr int kRelaxDirections = 12;  // tangential directions a relaxed vertex tries
 
 // Moves v in the tangent plane of its faces' normal and back onto the old
@@ -712,6 +887,12 @@ QualityResult QualityPass::run() {
       if (!bad().empty()) result_.flips += flip_phase();
       if (bad().empty() || !(o_.max_error > 0.0)) break;
     }
+  }
+  // Folds (mesh_checks.h), with the last tier's error bound.
+  if (o_.unfold && mesh_.n_faces() > 0) {
+    max_error_ = o_.max_error * 5.0;
+    result_.unfolds = unfold_phase();
+    result_.collapses += result_.unfolds;
   }
   guard_.reset();
   result_.faces_below = 0;

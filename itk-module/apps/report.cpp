@@ -72,6 +72,7 @@ std::string summary_text(const RunRecord& r) {
   part(r.model.quality_splits, "quality splits");
   part(r.model.quality_collapses, "quality collapses");
   part(r.model.quality_spikes, "of them spikes removed");
+  part(r.model.quality_unfolds, "of them folded edges");
   part(r.model.quality_moves, "quality moves");
   part(r.model.float_refused, "vertices not float-exact");
   if (!finish.empty()) s << "  after convergence: " << finish << "\n";
@@ -197,6 +198,7 @@ std::string report_json(const RunRecord& r, const Options& options) {
       .add("quality_collapses", json_number(r.model.quality_collapses))
       .add("quality_moves", json_number(r.model.quality_moves))
       .add("quality_spikes", json_number(r.model.quality_spikes))
+      .add("quality_unfolds", json_number(r.model.quality_unfolds))
       .add("faces_below_min_angle", json_number(r.model.faces_below_min_angle))
       .add("face_budget", json_number(r.model.face_budget))
       .add("budget_faces", json_number(r.model.faces))

@@ -651,6 +651,7 @@ py::dict model_report(const gdm::DeformResult& r, double seconds, double check_s
   d["quality_collapses"] = r.quality_collapses;
   d["quality_moves"] = r.quality_moves;
   d["quality_spikes"] = r.quality_spikes;
+  d["quality_unfolds"] = r.quality_unfolds;
   d["faces_below_min_angle"] = r.faces_below_min_angle;
   d["face_budget"] = r.face_budget;
   d["budget_faces"] = r.faces;
