@@ -155,6 +155,7 @@ class QualityPass {
   bool remove_spike(Mesh::VertexHandle v);
   bool collapse_to(Mesh::HalfedgeHandle h, double where, const CollapseOptions& co);
   std::size_t unfold_phase();
+  bool unfold_by_flip(Mesh::EdgeHandle e);
   bool unfold(Mesh::EdgeHandle e);
   bool blocked(const Tri& t) const { return o_.obstacle && o_.obstacle->blocks(t); }
 
@@ -575,19 +576,26 @@ double fold_between(const Tri& a, const Tri& b) {
   return std::atan2(na.cross(nb).norm(), na.dot(nb)) * (180.0 / M_PI);
 }
 
-// The folds around a collapse of h (mesh_checks.h, kFoldDegrees): the
-// sharpest fold and the number of edges beyond kFoldDegrees over the edges
-// of the faces around either end, before the collapse and after it.
+// The folds around a collapse of h with its kept end at m (mesh_checks.h,
+// kFoldDegrees): the sharpest fold and the number of edges beyond
+// kFoldDegrees over the edges of the faces around either end, before the
+// collapse and after it.
 struct CollapseFolds {
   double sharpest_before = 0.0, sharpest_after = 0.0;
   int folded_before = 0, folded_after = 0;
 };
 
-CollapseFolds folds_of_collapse(const Mesh& mesh, Mesh::HalfedgeHandle h) {
+CollapseFolds folds_of_collapse(const Mesh& mesh, Mesh::HalfedgeHandle h, const Vec3& m) {
   const auto v0 = mesh.from_vertex_handle(h), v1 = mesh.to_vertex_handle(h);
   const auto gone0 = mesh.face_handle(h), gone1 = mesh.face_handle(mesh.opposite_halfedge_handle(h));
   const auto triangle = [&](const std::array<int, 3>& c) {
     return Tri{pos(mesh, Mesh::VertexHandle(c[0])), pos(mesh, Mesh::VertexHandle(c[1])), pos(mesh, Mesh::VertexHandle(c[2]))};
+  };
+  const auto moved = [&](const std::array<int, 3>& c) {
+    Tri t = triangle(c);
+    for (std::size_t k = 0; k < 3; ++k)
+      if (c[k] == v1.idx()) t[k] = m;
+    return t;
   };
   const auto corner_ids = [&](Mesh::FaceHandle g) {
     const auto c = corners(mesh, g);
@@ -639,7 +647,7 @@ CollapseFolds folds_of_collapse(const Mesh& mesh, Mesh::HalfedgeHandle h) {
         for (int m = 0; m < 3; ++m)
           across = across || (after[j][static_cast<std::size_t>(m)] == b && after[j][static_cast<std::size_t>((m + 1) % 3)] == a);
         if (!across) continue;
-        const double f = fold_between(triangle(after[i]), triangle(after[j]));
+        const double f = fold_between(moved(after[i]), moved(after[j]));
         r.sharpest_after = std::max(r.sharpest_after, f);
         r.folded_after += f > kFoldDegrees ? 1 : 0;
       }
@@ -648,41 +656,51 @@ CollapseFolds folds_of_collapse(const Mesh& mesh, Mesh::HalfedgeHandle h) {
   return r;
 }
 
-// Collapses an edge folded beyond kFoldDegrees into either end when that
-// leaves fewer folded edges around and none sharper than the sharpest
-// there was, under the collapse phase's other rules: the link condition,
-// CollapseChecker's exact intersection tests (its normal test off: in a
-// crumple every collapse turns some face by more than 45 degrees), no new
-// face below the bound unless the smallest angle around rises, the removed
-// vertex within the error bound of the new faces, the obstacle.
+// Collapses an edge folded beyond kFoldDegrees into either end, else into
+// its midpoint, when that leaves fewer folded edges around and none sharper
+// than the sharpest there was, under the collapse phase's other rules: the
+// link condition, CollapseChecker's exact intersection tests (its normal
+// test off: in a crumple every collapse turns some face by more than 45
+// degrees), no new face below the bound unless the smallest angle around
+// rises, the old places of the ends within the error bound of the new
+// faces, the obstacle.
 bool QualityPass::unfold(Mesh::EdgeHandle e) {
   CollapseOptions co;
   co.min_angle = 0.0;
   co.max_normal_change = 180.0;
-  for (int side = 0; side < 2; ++side) {
+  // (halfedge side, where between its ends the kept vertex goes)
+  for (const auto& [side, where] : {std::pair<int, double>{0, 1.0}, {1, 1.0}, {0, 0.5}}) {
     const auto h = mesh_.halfedge_handle(e, side);
     if (!collapse_keeps_topology(mesh_, h)) continue;
     const auto v0 = mesh_.from_vertex_handle(h), v1 = mesh_.to_vertex_handle(h);
+    const Vec3 p0 = pos(mesh_, v0), p1 = pos(mesh_, v1), m = (1.0 - where) * p0 + where * p1;
     const auto gone0 = mesh_.face_handle(h), gone1 = mesh_.face_handle(mesh_.opposite_halfedge_handle(h));
     std::vector<Tri> created;
     bool touches = false;
     double before = std::min(face_min_angle(mesh_, gone0), face_min_angle(mesh_, gone1)), after = 180.0;
-    for (auto g : mesh_.vf_range(v0)) {
-      if (g == gone0 || g == gone1) continue;
+    const auto add = [&](Mesh::FaceHandle g) {
       before = std::min(before, face_min_angle(mesh_, g));
       Tri t;
       int i = 0;
-      for (auto w : mesh_.fv_range(g)) t[i++] = w == v0 ? pos(mesh_, v1) : pos(mesh_, w);
+      for (auto w : mesh_.fv_range(g)) t[i++] = (w == v0 || w == v1) ? m : pos(mesh_, w);
       after = std::min(after, triangle_min_angle(t[0], t[1], t[2]));
       touches = touches || blocked(t);
       created.push_back(t);
+      return true;
+    };
+    if (where == 1.0) {
+      for (auto g : mesh_.vf_range(v0))
+        if (g != gone0 && g != gone1) add(g);
+    } else {
+      for_each_face_moved_by_collapse(mesh_, h, add);
     }
     if (touches || (after < bound_ && !(after > before + 1e-6))) continue;
-    if (max_error_ > 0.0 && distance_to(pos(mesh_, v0), created) > max_error_) continue;
-    const CollapseFolds f = folds_of_collapse(mesh_, h);
+    if (max_error_ > 0.0 && std::max(distance_to(p0, created), distance_to(p1, created)) > max_error_) continue;
+    const CollapseFolds f = folds_of_collapse(mesh_, h, m);
     if (f.folded_after >= f.folded_before || f.sharpest_after > f.sharpest_before) continue;
-    if (!checker().geometry_ok(h, co)) continue;
+    if (!(where == 1.0 ? checker().geometry_ok(h, co) : checker().geometry_ok(h, co, m))) continue;
     mesh_.collapse(h);
+    mesh_.set_point(v1, to_point(m));
     checker().note_vertex(v1);
     watch_faces_around(v1);
     return true;
@@ -690,17 +708,72 @@ bool QualityPass::unfold(Mesh::EdgeHandle e) {
   return false;
 }
 
-// Rounds of unfold() over the edges folded beyond kFoldDegrees, in index
-// order: every edge first, then the edges around the vertices the last
-// round's collapses kept (only there did a fold change), until a round
-// collapses none (at most o_.rounds). The garbage is collected once, at the
-// end.
+// Flips an edge folded beyond kFoldDegrees when that leaves fewer folded
+// edges among the two faces' five edges and none sharper than the
+// sharpest there was, under the flip's rules but for the orientation test
+// (two faces folded flat onto each other have no common side): the
+// smallest angle of the two faces not below the bound unless it rises, the
+// new edge within the error bound of the old faces and the old edge of the
+// new ones, the guard, the obstacle.
+bool QualityPass::unfold_by_flip(Mesh::EdgeHandle e) {
+  if (mesh_.is_boundary(e) || !mesh_.is_flip_ok(e)) return false;
+  const auto h0 = mesh_.halfedge_handle(e, 0), h1 = mesh_.halfedge_handle(e, 1);
+  const auto v0 = mesh_.from_vertex_handle(h0), v1 = mesh_.to_vertex_handle(h0);
+  const auto a = mesh_.to_vertex_handle(mesh_.next_halfedge_handle(h0));
+  const auto b = mesh_.to_vertex_handle(mesh_.next_halfedge_handle(h1));
+  if (a == b || mesh_.valence(v0) <= 3 || mesh_.valence(v1) <= 3) return false;
+  const Vec3 p0 = pos(mesh_, v0), p1 = pos(mesh_, v1), pa = pos(mesh_, a), pb = pos(mesh_, b);
+  const Tri old0{p0, p1, pa}, old1{p1, p0, pb}, new0{p0, pb, pa}, new1{p1, pa, pb};
+  const double before = std::min(triangle_min_angle(p0, p1, pa), triangle_min_angle(p1, p0, pb));
+  const double after = std::min(triangle_min_angle(p0, pb, pa), triangle_min_angle(p1, pa, pb));
+  if (after < bound_ && !(after > before + 1e-6)) return false;
+  // The faces across the four outer edges: v1-a and a-v0 (of the face of
+  // h0), v0-b and b-v1 (of h1's).
+  const auto across = [&](Mesh::HalfedgeHandle h) {
+    const auto c = corners(mesh_, mesh_.opposite_face_handle(h));
+    return Tri{pos(mesh_, c[0]), pos(mesh_, c[1]), pos(mesh_, c[2])};
+  };
+  const auto n0 = mesh_.next_halfedge_handle(h0), n1 = mesh_.next_halfedge_handle(h1);
+  const Tri v1a = across(n0), av0 = across(mesh_.next_halfedge_handle(n0));
+  const Tri v0b = across(n1), bv1 = across(mesh_.next_halfedge_handle(n1));
+  const std::array<double, 5> old_folds{fold_between(old0, old1), fold_between(old0, v1a), fold_between(old0, av0),
+                                        fold_between(old1, v0b), fold_between(old1, bv1)};
+  const std::array<double, 5> new_folds{fold_between(new0, new1), fold_between(new1, v1a), fold_between(new0, av0),
+                                        fold_between(new0, v0b), fold_between(new1, bv1)};
+  const auto beyond = [](const std::array<double, 5>& f) {
+    return std::count_if(f.begin(), f.end(), [](double x) { return x > kFoldDegrees; });
+  };
+  if (beyond(new_folds) >= beyond(old_folds) ||
+      *std::max_element(new_folds.begin(), new_folds.end()) > *std::max_element(old_folds.begin(), old_folds.end()))
+    return false;
+  if (max_error_ > 0.0 && (distance_to(0.5 * (pa + pb), {old0, old1}) > max_error_ ||
+                           distance_to(0.5 * (p0 + p1), {new0, new1}) > max_error_))
+    return false;
+  if (blocked(new0) || blocked(new1)) return false;
+  const Mesh::VertexHandle quad[4] = {v0, b, v1, a};
+  if (guard() && !guard()->flip_is_safe(e, quad)) return false;
+  mesh_.flip(e);
+  if (checker_ && checker_current_) {
+    checker_->note_vertex(v0);
+    checker_->note_vertex(v1);
+  }
+  watch_.push_back(mesh_.face_handle(h0).idx());
+  watch_.push_back(mesh_.face_handle(h1).idx());
+  return true;
+}
+
+// The folded edges (beyond kFoldDegrees) flipped where unfold_by_flip()
+// allows, in index order; then rounds of unfold() over the edges still
+// folded, in index order, every one first, then those around the vertices
+// the last round's collapses kept (only there did a fold change), until a
+// round collapses none (at most o_.rounds). The flips go first, while the
+// guard is current; the garbage is collected once, at the end. Returns the
+// collapses.
 std::size_t QualityPass::unfold_phase() {
   mesh_.request_vertex_status();
   mesh_.request_edge_status();
   mesh_.request_halfedge_status();
   mesh_.request_face_status();
-  checker_current_ = false;
   const auto folded = [&](Mesh::EdgeHandle e) {
     if (mesh_.status(e).deleted() || mesh_.is_boundary(e)) return false;
     const auto t0 = corners(mesh_, mesh_.face_handle(mesh_.halfedge_handle(e, 0)));
@@ -711,6 +784,10 @@ std::size_t QualityPass::unfold_phase() {
   std::vector<int> edges;
   for (auto e : mesh_.edges())
     if (folded(e)) edges.push_back(e.idx());
+  for (int i : edges)
+    if (folded(Mesh::EdgeHandle(i)) && unfold_by_flip(Mesh::EdgeHandle(i))) ++result_.unfold_flips;
+  result_.flips += result_.unfold_flips;
+  checker_current_ = false;
   std::size_t total = 0;
   std::vector<Mesh::VertexHandle> kept;
   for (int round = 0; round < o_.rounds && !edges.empty(); ++round) {

@@ -27,7 +27,7 @@ struct QualityOptions {
                                 // from it, is a spike and is removed (collapsed into its nearest
                                 // neighbour) whatever max_error says; <= 0: none removed
   bool unfold = false;          // after the rounds, edges folded beyond kFoldDegrees (mesh_checks.h)
-                                // collapsed where that leaves fewer folds around (unfold_phase)
+                                // flipped or collapsed where that leaves fewer folds around (unfold_phase)
   bool prevent_self_intersection = true;  // flips and moves checked by the IntersectionGuard
   const Obstacle* obstacle = nullptr;     // triangles no operation may touch; not owned
 };
@@ -37,6 +37,7 @@ struct QualityResult {
   std::size_t collapses = 0;      // short edges collapsed (spikes included)
   std::size_t spikes = 0;         // of the collapses: spikes removed (spike_radius)
   std::size_t unfolds = 0;        // of the collapses: folded edges collapsed (unfold)
+  std::size_t unfold_flips = 0;   // of the flips: folded edges flipped (unfold)
   std::size_t splits = 0;         // long edges of caps split at the foot of the cap's apex
   std::size_t moves = 0;          // vertex moves of the relaxation
   std::size_t faces_below = 0;    // faces still with an angle below min_angle after the pass
@@ -66,9 +67,9 @@ double triangle_min_angle(const Vec3& a, const Vec3& b, const Vec3& c);
 // most max_error; faces still below the bound after the rounds get a second
 // and a third series of rounds with 2.5 and 5 times max_error. With
 // options.unfold, edges folded beyond kFoldDegrees (mesh_checks.h) are then
-// collapsed where that leaves fewer folded edges around and none sharper,
-// under the same rules but the 45-degree normal test, within 5 times
-// max_error (unfold_phase). Leaves the
+// flipped, else collapsed, where that leaves fewer folded edges around and
+// none sharper, under the same rules but the orientation and 45-degree
+// normal tests, within 5 times max_error (unfold_phase). Leaves the
 // mesh garbage-collected (no deleted elements; the status attributes stay
 // requested). Best effort: faces_below says how many faces remain below.
 QualityResult improve_triangle_quality(Mesh& mesh, const QualityOptions& options);
