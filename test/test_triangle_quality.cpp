@@ -249,7 +249,48 @@ Mesh finned_sphere(double height) {
   return mesh;
 }
 
+// A geodesic sphere (radius 10 mm) with a face folded back over its
+// neighbour: across the edge pq of the faces (p, q, r) and (q, p, s), s is
+// moved over pq to 0.6 of the way from pq's midpoint to r and 0.2 mm
+// outward; the two faces then lie on each other, folded beyond kFoldDegrees.
+Mesh folded_over_sphere() {
+  Mesh mesh = make_geodesic_sphere(Vec3::Zero(), 10.0, 3);
+  const auto h = mesh.halfedge_handle(Mesh::EdgeHandle(0), 0);
+  const Vec3 p = to_eigen(mesh.point(mesh.from_vertex_handle(h))), q = to_eigen(mesh.point(mesh.to_vertex_handle(h)));
+  const Vec3 r = to_eigen(mesh.point(mesh.to_vertex_handle(mesh.next_halfedge_handle(h))));
+  const auto s = mesh.to_vertex_handle(mesh.next_halfedge_handle(mesh.opposite_halfedge_handle(h)));
+  const Vec3 m = 0.5 * (p + q);
+  mesh.set_point(s, to_point(m + 0.6 * (r - m) + 0.2 * m.normalized()));
+  return mesh;
+}
+
 }  // namespace
+
+TEST(TriangleQuality, unfold_flips_a_face_folded_over_its_neighbour) {
+  QualityOptions o;
+  o.min_angle = 0.0;  // no angle rounds: the fold phase alone
+  o.max_error = 0.0;
+  Mesh kept = folded_over_sphere();
+  test::expect_valid_closed_surface(kept);
+  const std::size_t folds = folded_edges(kept);
+  ASSERT_GE(folds, 1u);
+  EXPECT_EQ(improve_triangle_quality(kept, o).flips, 0u) << "off: nothing changes";
+  EXPECT_EQ(folded_edges(kept), folds);
+  Mesh mesh = folded_over_sphere();
+  o.unfold = true;
+  const QualityResult on = improve_triangle_quality(mesh, o);
+  std::printf("folded-over sphere: %zu folded edges (sharpest %.1f deg) -> %zu (%.1f), %zu flips, %zu collapses\n",
+              folds, sharpest_fold_degrees(kept), folded_edges(mesh), sharpest_fold_degrees(mesh), on.unfold_flips,
+              on.unfolds);
+  EXPECT_GE(on.unfold_flips, 1u);
+  EXPECT_EQ(on.flips, on.unfold_flips);
+  EXPECT_EQ(on.unfolds, 0u);
+  EXPECT_EQ(folded_edges(mesh), 0u);
+  test::expect_valid_closed_surface(mesh);
+  // A flip moves no vertex.
+  ASSERT_EQ(mesh.n_vertices(), kept.n_vertices());
+  for (auto v : mesh.vertices()) EXPECT_EQ(to_eigen(mesh.point(v)), to_eigen(kept.point(v)));
+}
 
 TEST(TriangleQuality, unfold_collapses_the_folded_edges_of_a_fin) {
   QualityOptions o;
