@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -144,6 +145,23 @@ class QualityPass {
     for (auto f : mesh_.vf_range(v)) watch_.push_back(f.idx());
   }
   void collect_garbage();
+  // An edge's flip: the faces (v0, v1, a) of h0 and (v1, v0, b) of h1
+  // become (v0, b, a) and (v1, a, b).
+  struct Flip {
+    Mesh::HalfedgeHandle h0, h1;
+    Mesh::VertexHandle v0, v1, a, b;
+    Vec3 p0, p1, pa, pb;
+    Tri old0() const { return {p0, p1, pa}; }
+    Tri old1() const { return {p1, p0, pb}; }
+    Tri new0() const { return {p0, pb, pa}; }
+    Tri new1() const { return {p1, pa, pb}; }
+    double angle_before() const { return std::min(triangle_min_angle(p0, p1, pa), triangle_min_angle(p1, p0, pb)); }
+    double angle_after() const { return std::min(triangle_min_angle(p0, pb, pa), triangle_min_angle(p1, pa, pb)); }
+  };
+  std::optional<Flip> flip_of(Mesh::EdgeHandle e) const;
+  bool within_error(const Flip& f) const;
+  bool make_flip(Mesh::EdgeHandle e, const Flip& f);
+  void request_status();
   bool try_flip(Mesh::EdgeHandle e);
   std::size_t flip_phase();
   std::size_t split_phase();
@@ -246,39 +264,60 @@ void QualityPass::collect_garbage() {
   for (auto f : kept) watch_.push_back(f.idx());
 }
 
+// The flip of e, when OpenMesh allows it and neither end would be left
+// with fewer than three faces.
+std::optional<QualityPass::Flip> QualityPass::flip_of(Mesh::EdgeHandle e) const {
+  if (mesh_.is_boundary(e) || !mesh_.is_flip_ok(e)) return std::nullopt;
+  Flip f;
+  f.h0 = mesh_.halfedge_handle(e, 0);
+  f.h1 = mesh_.halfedge_handle(e, 1);
+  f.v0 = mesh_.from_vertex_handle(f.h0);
+  f.v1 = mesh_.to_vertex_handle(f.h0);
+  f.a = mesh_.to_vertex_handle(mesh_.next_halfedge_handle(f.h0));
+  f.b = mesh_.to_vertex_handle(mesh_.next_halfedge_handle(f.h1));
+  if (f.a == f.b || mesh_.valence(f.v0) <= 3 || mesh_.valence(f.v1) <= 3) return std::nullopt;
+  f.p0 = pos(mesh_, f.v0);
+  f.p1 = pos(mesh_, f.v1);
+  f.pa = pos(mesh_, f.a);
+  f.pb = pos(mesh_, f.b);
+  return f;
+}
+
+// How far the flip moves the surface: the new edge from the old faces and
+// the old edge from the new ones (the tetrahedron's two heights), within
+// max_error.
+bool QualityPass::within_error(const Flip& f) const {
+  if (!(max_error_ > 0.0)) return true;
+  return distance_to(0.5 * (f.pa + f.pb), {f.old0(), f.old1()}) <= max_error_ &&
+         distance_to(0.5 * (f.p0 + f.p1), {f.new0(), f.new1()}) <= max_error_;
+}
+
+// Makes the flip when the obstacle and the guard allow it.
+bool QualityPass::make_flip(Mesh::EdgeHandle e, const Flip& f) {
+  if (blocked(f.new0()) || blocked(f.new1())) return false;
+  const Mesh::VertexHandle quad[4] = {f.v0, f.b, f.v1, f.a};
+  if (guard() && !guard()->flip_is_safe(e, quad)) return false;
+  mesh_.flip(e);
+  if (checker_ && checker_current_) {
+    checker_->note_vertex(f.v0);
+    checker_->note_vertex(f.v1);
+  }
+  watch_.push_back(mesh_.face_handle(f.h0).idx());
+  watch_.push_back(mesh_.face_handle(f.h1).idx());
+  return true;
+}
+
 // Flips e when that raises the smallest angle of its two faces, keeps their
 // orientation, moves the surface by at most max_error and the guard agrees.
 bool QualityPass::try_flip(Mesh::EdgeHandle e) {
-  if (mesh_.is_boundary(e) || !mesh_.is_flip_ok(e)) return false;
-  const auto h0 = mesh_.halfedge_handle(e, 0), h1 = mesh_.halfedge_handle(e, 1);
-  const auto v0 = mesh_.from_vertex_handle(h0), v1 = mesh_.to_vertex_handle(h0);
-  const auto a = mesh_.to_vertex_handle(mesh_.next_halfedge_handle(h0));
-  const auto b = mesh_.to_vertex_handle(mesh_.next_halfedge_handle(h1));
-  if (a == b || mesh_.valence(v0) <= 3 || mesh_.valence(v1) <= 3) return false;
-  const Vec3 p0 = pos(mesh_, v0), p1 = pos(mesh_, v1), pa = pos(mesh_, a), pb = pos(mesh_, b);
-  const double before = std::min(triangle_min_angle(p0, p1, pa), triangle_min_angle(p1, p0, pb));
-  const double after = std::min(triangle_min_angle(p0, pb, pa), triangle_min_angle(p1, pa, pb));
-  if (!(after > before + 1e-6)) return false;
+  const std::optional<Flip> f = flip_of(e);
+  if (!f || !(f->angle_after() > f->angle_before() + 1e-6)) return false;
   // The new faces (v0, b, a) and (v1, a, b) keep the orientation of the old pair.
-  const Vec3 n0 = (p1 - p0).cross(pa - p0), n1 = (p0 - p1).cross(pb - p1);
-  const Vec3 m0 = (pb - p0).cross(pa - p0), m1 = (pa - p1).cross(pb - p1);
+  const Vec3 n0 = (f->p1 - f->p0).cross(f->pa - f->p0), n1 = (f->p0 - f->p1).cross(f->pb - f->p1);
+  const Vec3 m0 = (f->pb - f->p0).cross(f->pa - f->p0), m1 = (f->pa - f->p1).cross(f->pb - f->p1);
   const Vec3 old_n = n0 + n1;
   if (m0.dot(old_n) <= 0.0 || m1.dot(old_n) <= 0.0) return false;
-  if (max_error_ > 0.0) {
-    // How far the flip moves the surface: the new edge from the old faces
-    // and the old edge from the new ones (the tetrahedron's two heights).
-    const std::vector<Tri> old_faces{{p0, p1, pa}, {p1, p0, pb}}, new_faces{{p0, pb, pa}, {p1, pa, pb}};
-    if (distance_to(0.5 * (pa + pb), old_faces) > max_error_ ||
-        distance_to(0.5 * (p0 + p1), new_faces) > max_error_)
-      return false;
-  }
-  if (blocked({p0, pb, pa}) || blocked({p1, pa, pb})) return false;
-  const Mesh::VertexHandle quad[4] = {v0, b, v1, a};
-  if (guard() && !guard()->flip_is_safe(e, quad)) return false;
-  mesh_.flip(e);
-  watch_.push_back(mesh_.face_handle(h0).idx());
-  watch_.push_back(mesh_.face_handle(h1).idx());
-  return true;
+  return within_error(*f) && make_flip(e, *f);
 }
 
 std::size_t QualityPass::flip_phase() {
@@ -363,10 +402,7 @@ std::size_t QualityPass::split_phase() {
 // the old surface, and only when no new face falls below the bound or the
 // smallest angle around the edge rises.
 std::size_t QualityPass::collapse_phase() {
-  mesh_.request_vertex_status();
-  mesh_.request_edge_status();
-  mesh_.request_halfedge_status();
-  mesh_.request_face_status();
+  request_status();
   CollapseOptions co;
   co.min_angle = 0.0;  // the floor is ours: the smallest angle around the edge must rise
   checker_current_ = false;  // the flips, splits and moves since did not tell it
@@ -716,16 +752,9 @@ bool QualityPass::unfold(Mesh::EdgeHandle e) {
 // new edge within the error bound of the old faces and the old edge of the
 // new ones, the guard, the obstacle.
 bool QualityPass::unfold_by_flip(Mesh::EdgeHandle e) {
-  if (mesh_.is_boundary(e) || !mesh_.is_flip_ok(e)) return false;
-  const auto h0 = mesh_.halfedge_handle(e, 0), h1 = mesh_.halfedge_handle(e, 1);
-  const auto v0 = mesh_.from_vertex_handle(h0), v1 = mesh_.to_vertex_handle(h0);
-  const auto a = mesh_.to_vertex_handle(mesh_.next_halfedge_handle(h0));
-  const auto b = mesh_.to_vertex_handle(mesh_.next_halfedge_handle(h1));
-  if (a == b || mesh_.valence(v0) <= 3 || mesh_.valence(v1) <= 3) return false;
-  const Vec3 p0 = pos(mesh_, v0), p1 = pos(mesh_, v1), pa = pos(mesh_, a), pb = pos(mesh_, b);
-  const Tri old0{p0, p1, pa}, old1{p1, p0, pb}, new0{p0, pb, pa}, new1{p1, pa, pb};
-  const double before = std::min(triangle_min_angle(p0, p1, pa), triangle_min_angle(p1, p0, pb));
-  const double after = std::min(triangle_min_angle(p0, pb, pa), triangle_min_angle(p1, pa, pb));
+  const std::optional<Flip> f = flip_of(e);
+  if (!f) return false;
+  const double before = f->angle_before(), after = f->angle_after();
   if (after < bound_ && !(after > before + 1e-6)) return false;
   // The faces across the four outer edges: v1-a and a-v0 (of the face of
   // h0), v0-b and b-v1 (of h1's).
@@ -733,33 +762,29 @@ bool QualityPass::unfold_by_flip(Mesh::EdgeHandle e) {
     const auto c = corners(mesh_, mesh_.opposite_face_handle(h));
     return Tri{pos(mesh_, c[0]), pos(mesh_, c[1]), pos(mesh_, c[2])};
   };
-  const auto n0 = mesh_.next_halfedge_handle(h0), n1 = mesh_.next_halfedge_handle(h1);
+  const auto n0 = mesh_.next_halfedge_handle(f->h0), n1 = mesh_.next_halfedge_handle(f->h1);
   const Tri v1a = across(n0), av0 = across(mesh_.next_halfedge_handle(n0));
   const Tri v0b = across(n1), bv1 = across(mesh_.next_halfedge_handle(n1));
+  const Tri old0 = f->old0(), old1 = f->old1(), new0 = f->new0(), new1 = f->new1();
   const std::array<double, 5> old_folds{fold_between(old0, old1), fold_between(old0, v1a), fold_between(old0, av0),
                                         fold_between(old1, v0b), fold_between(old1, bv1)};
   const std::array<double, 5> new_folds{fold_between(new0, new1), fold_between(new1, v1a), fold_between(new0, av0),
                                         fold_between(new0, v0b), fold_between(new1, bv1)};
-  const auto beyond = [](const std::array<double, 5>& f) {
-    return std::count_if(f.begin(), f.end(), [](double x) { return x > kFoldDegrees; });
+  const auto beyond = [](const std::array<double, 5>& x) {
+    return std::count_if(x.begin(), x.end(), [](double y) { return y > kFoldDegrees; });
   };
   if (beyond(new_folds) >= beyond(old_folds) ||
       *std::max_element(new_folds.begin(), new_folds.end()) > *std::max_element(old_folds.begin(), old_folds.end()))
     return false;
-  if (max_error_ > 0.0 && (distance_to(0.5 * (pa + pb), {old0, old1}) > max_error_ ||
-                           distance_to(0.5 * (p0 + p1), {new0, new1}) > max_error_))
-    return false;
-  if (blocked(new0) || blocked(new1)) return false;
-  const Mesh::VertexHandle quad[4] = {v0, b, v1, a};
-  if (guard() && !guard()->flip_is_safe(e, quad)) return false;
-  mesh_.flip(e);
-  if (checker_ && checker_current_) {
-    checker_->note_vertex(v0);
-    checker_->note_vertex(v1);
-  }
-  watch_.push_back(mesh_.face_handle(h0).idx());
-  watch_.push_back(mesh_.face_handle(h1).idx());
-  return true;
+  return within_error(*f) && make_flip(e, *f);
+}
+
+// The status attributes collapses need.
+void QualityPass::request_status() {
+  mesh_.request_vertex_status();
+  mesh_.request_edge_status();
+  mesh_.request_halfedge_status();
+  mesh_.request_face_status();
 }
 
 // The folded edges (beyond kFoldDegrees) flipped where unfold_by_flip()
@@ -770,10 +795,7 @@ bool QualityPass::unfold_by_flip(Mesh::EdgeHandle e) {
 // guard is current; the garbage is collected once, at the end. Returns the
 // collapses.
 std::size_t QualityPass::unfold_phase() {
-  mesh_.request_vertex_status();
-  mesh_.request_edge_status();
-  mesh_.request_halfedge_status();
-  mesh_.request_face_status();
+  request_status();
   const auto folded = [&](Mesh::EdgeHandle e) {
     if (mesh_.status(e).deleted() || mesh_.is_boundary(e)) return false;
     const auto t0 = corners(mesh_, mesh_.face_handle(mesh_.halfedge_handle(e, 0)));
