@@ -806,9 +806,11 @@ std::size_t QualityPass::unfold_phase() {
   std::vector<int> edges;
   for (auto e : mesh_.edges())
     if (folded(e)) edges.push_back(e.idx());
+  std::size_t flips = 0;
   for (int i : edges)
-    if (folded(Mesh::EdgeHandle(i)) && unfold_by_flip(Mesh::EdgeHandle(i))) ++result_.unfold_flips;
-  result_.flips += result_.unfold_flips;
+    if (folded(Mesh::EdgeHandle(i)) && unfold_by_flip(Mesh::EdgeHandle(i))) ++flips;
+  result_.unfold_flips += flips;
+  result_.flips += flips;
   checker_current_ = false;
   std::size_t total = 0;
   std::vector<Mesh::VertexHandle> kept;
@@ -960,6 +962,20 @@ QualityResult QualityPass::run() {
     for (auto e : mesh_.edges()) sum += mesh_.calc_edge_length(e);
     voxel_ = std::max(sum / static_cast<double>(mesh_.n_edges()), 1e-300);
   }
+  // Folds (mesh_checks.h), with the last tier's error bound: before the
+  // tiers, so that they work on the unfolded surface, and after them, for
+  // the folds their operations left. Measured at the defaults (faces below
+  // 10 degrees, edges folded beyond 160): the T1 head 12 and 1,741 with the
+  // phase after the tiers only, 8 and 2,154 before them only, 7 and 1,585
+  // both; the CT series 1 and 709, 2 and 822, 2 and 618.
+  const auto unfold = [&] {
+    if (!o_.unfold || mesh_.n_faces() == 0) return;
+    max_error_ = o_.max_error * 5.0;
+    const std::size_t n = unfold_phase();
+    result_.unfolds += n;
+    result_.collapses += n;
+  };
+  unfold();
   if (o_.min_angle > 0.0 && mesh_.n_faces() > 0) {
     for (auto f : bad_faces(mesh_, bound_)) watch_.push_back(f.idx());
     // Tiers of the error bound: the operations within max_error first; the
@@ -987,12 +1003,7 @@ QualityResult QualityPass::run() {
       if (bad().empty() || !(o_.max_error > 0.0)) break;
     }
   }
-  // Folds (mesh_checks.h), with the last tier's error bound.
-  if (o_.unfold && mesh_.n_faces() > 0) {
-    max_error_ = o_.max_error * 5.0;
-    result_.unfolds = unfold_phase();
-    result_.collapses += result_.unfolds;
-  }
+  unfold();
   guard_.reset();
   result_.faces_below = 0;
   const double sin2_min = sin2_of(o_.min_angle);
