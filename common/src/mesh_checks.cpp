@@ -306,16 +306,7 @@ std::vector<double> edge_folds(const Mesh& mesh, int threads) {
   parallel_for(fold.size(), resolve_thread_count(threads), [&](std::size_t i) {
     const Mesh::EdgeHandle e(static_cast<int>(i));
     if (mesh.has_edge_status() && mesh.status(e).deleted()) return;
-    const auto f0 = mesh.face_handle(mesh.halfedge_handle(e, 0)), f1 = mesh.face_handle(mesh.halfedge_handle(e, 1));
-    if (!f0.is_valid() || !f1.is_valid()) return;
-    const auto normal = [&](Mesh::FaceHandle f) {
-      auto it = mesh.cfv_iter(f);
-      const Vec3 a = to_eigen(mesh.point(*it)), b = to_eigen(mesh.point(*++it)), c = to_eigen(mesh.point(*++it));
-      return Vec3((b - a).cross(c - a));
-    };
-    const Vec3 n0 = normal(f0), n1 = normal(f1);
-    // atan2 of |n0 x n1| and n0 . n1: accurate near 0 and 180 degrees.
-    fold[i] = n0.isZero() || n1.isZero() ? 0.0 : std::atan2(n0.cross(n1).norm(), n0.dot(n1)) * (180.0 / 3.14159265358979323846);
+    if (!mesh.is_boundary(e)) fold[i] = edge_fold_degrees(mesh, e);
   });
   return fold;
 }
@@ -331,6 +322,22 @@ std::size_t count_beyond(const std::vector<double>& folds, double degrees) {
 }
 
 }  // namespace
+
+double fold_degrees(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b) {
+  const Vec3 na = (a[1] - a[0]).cross(a[2] - a[0]), nb = (b[1] - b[0]).cross(b[2] - b[0]);
+  if (na.isZero() || nb.isZero()) return 0.0;
+  // atan2 of |na x nb| and na . nb: accurate near 0 and 180 degrees.
+  return std::atan2(na.cross(nb).norm(), na.dot(nb)) * (180.0 / 3.14159265358979323846);
+}
+
+double edge_fold_degrees(const Mesh& mesh, Mesh::EdgeHandle e) {
+  const auto corners = [&](Mesh::FaceHandle f) {
+    auto it = mesh.cfv_iter(f);
+    return std::array<Vec3, 3>{to_eigen(mesh.point(*it)), to_eigen(mesh.point(*++it)), to_eigen(mesh.point(*++it))};
+  };
+  return fold_degrees(corners(mesh.face_handle(mesh.halfedge_handle(e, 0))),
+                      corners(mesh.face_handle(mesh.halfedge_handle(e, 1))));
+}
 
 double sharpest_fold_degrees(const Mesh& mesh) { return sharpest_of(edge_folds(mesh, 1)); }
 

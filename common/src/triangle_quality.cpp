@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -171,7 +172,10 @@ class QualityPass {
   bool collapse_between_ends(Mesh::HalfedgeHandle h, const CollapseOptions& co);
   bool is_thin_spike(Mesh::VertexHandle v) const;
   bool remove_spike(Mesh::VertexHandle v);
-  bool collapse_to(Mesh::HalfedgeHandle h, double where, const CollapseOptions& co);
+  // A further condition on a collapse of h with its kept end at the point given.
+  using Accept = std::function<bool(Mesh::HalfedgeHandle, const Vec3&)>;
+  bool collapse_into_end(Mesh::HalfedgeHandle h, const CollapseOptions& co, const Accept& accept = {});
+  bool collapse_to(Mesh::HalfedgeHandle h, double where, const CollapseOptions& co, const Accept& accept = {});
   std::size_t unfold_phase();
   bool unfold_by_flip(Mesh::EdgeHandle e);
   bool unfold(Mesh::EdgeHandle e);
@@ -427,32 +431,10 @@ std::size_t QualityPass::collapse_phase() {
       }
     for (auto h : tries) {
       if (done) break;
-      if (!collapse_keeps_topology(mesh_, h)) continue;
-      if (!checker().geometry_ok(h, co)) continue;
-      const auto v0 = mesh_.from_vertex_handle(h), v1 = mesh_.to_vertex_handle(h);
-      const auto gone0 = mesh_.face_handle(h), gone1 = mesh_.face_handle(mesh_.opposite_halfedge_handle(h));
-      std::vector<Tri> created;
-      bool touches = false;
-      double before = std::min(face_min_angle(mesh_, gone0), face_min_angle(mesh_, gone1)), after = 180.0;
-      for (auto g : mesh_.vf_range(v0)) {
-        if (g == gone0 || g == gone1) continue;
-        before = std::min(before, face_min_angle(mesh_, g));
-        Tri t;
-        int i = 0;
-        for (auto w : mesh_.fv_range(g)) t[i++] = w == v0 ? pos(mesh_, v1) : pos(mesh_, w);
-        after = std::min(after, triangle_min_angle(t[0], t[1], t[2]));
-        touches = touches || blocked(t);
-        created.push_back(t);
+      if (collapse_into_end(h, co)) {
+        done = true;
+        ++collapses;
       }
-      // Never a new face below the bound unless the smallest angle around rises.
-      if (touches || (after < bound_ && !(after > before + 1e-6))) continue;
-      if (max_error_ > 0.0 && distance_to(pos(mesh_, v0), created) > max_error_) continue;
-      done = true;
-      mesh_.collapse(h);
-      checker().note_vertex(v1);
-      watch_faces_around(v1);
-      ++collapses;
-      break;
     }
     // Else an edge into a point between its ends, shortest edge first.
     for (std::size_t i = 0; i < edges.size() && !done; ++i)
@@ -486,6 +468,40 @@ std::size_t QualityPass::collapse_phase() {
   return collapses;
 }
 
+// Collapses h into its end (the from-vertex into the to-vertex) under the
+// collapse phase's rules: the link condition, CollapseChecker (no face
+// turned by more than co's bound, exact intersection tests), no new face
+// below the bound unless the smallest angle around rises, the removed
+// vertex within the error bound of the new faces, the obstacle, and
+// `accept` when given.
+bool QualityPass::collapse_into_end(Mesh::HalfedgeHandle h, const CollapseOptions& co, const Accept& accept) {
+  if (!collapse_keeps_topology(mesh_, h)) return false;
+  if (!checker().geometry_ok(h, co)) return false;
+  const auto v0 = mesh_.from_vertex_handle(h), v1 = mesh_.to_vertex_handle(h);
+  const auto gone0 = mesh_.face_handle(h), gone1 = mesh_.face_handle(mesh_.opposite_halfedge_handle(h));
+  std::vector<Tri> created;
+  bool touches = false;
+  double before = std::min(face_min_angle(mesh_, gone0), face_min_angle(mesh_, gone1)), after = 180.0;
+  for (auto g : mesh_.vf_range(v0)) {
+    if (g == gone0 || g == gone1) continue;
+    before = std::min(before, face_min_angle(mesh_, g));
+    Tri t;
+    int i = 0;
+    for (auto w : mesh_.fv_range(g)) t[i++] = w == v0 ? pos(mesh_, v1) : pos(mesh_, w);
+    after = std::min(after, triangle_min_angle(t[0], t[1], t[2]));
+    touches = touches || blocked(t);
+    created.push_back(t);
+  }
+  // Never a new face below the bound unless the smallest angle around rises.
+  if (touches || (after < bound_ && !(after > before + 1e-6))) return false;
+  if (max_error_ > 0.0 && distance_to(pos(mesh_, v0), created) > max_error_) return false;
+  if (accept && !accept(h, pos(mesh_, v1))) return false;
+  mesh_.collapse(h);
+  checker().note_vertex(v1);
+  watch_faces_around(v1);
+  return true;
+}
+
 // Collapses the edge of h into its midpoint, else into the point a quarter
 // of the way from either end: both ends move, so the angles around the edge
 // are shared out where a collapse into either end leaves a sliver (measured
@@ -503,8 +519,8 @@ bool QualityPass::collapse_between_ends(Mesh::HalfedgeHandle h, const CollapseOp
 // its start to its end, under the collapse phase's rules: CollapseChecker
 // (no face turned by more than 45 degrees, exact intersection tests), no new
 // face below the bound unless the smallest angle around rises, both old
-// places within the error bound of the new faces.
-bool QualityPass::collapse_to(Mesh::HalfedgeHandle h, double where, const CollapseOptions& co) {
+// places within the error bound of the new faces, `accept` when given.
+bool QualityPass::collapse_to(Mesh::HalfedgeHandle h, double where, const CollapseOptions& co, const Accept& accept) {
   const auto v0 = mesh_.from_vertex_handle(h), v1 = mesh_.to_vertex_handle(h);
   const Vec3 p0 = pos(mesh_, v0), p1 = pos(mesh_, v1), m = (1.0 - where) * p0 + where * p1;
   const auto gone0 = mesh_.face_handle(h), gone1 = mesh_.face_handle(mesh_.opposite_halfedge_handle(h));
@@ -522,6 +538,7 @@ bool QualityPass::collapse_to(Mesh::HalfedgeHandle h, double where, const Collap
   if (!clear) return false;
   if (after < bound_ && !(after > before + 1e-6)) return false;
   if (max_error_ > 0.0 && std::max(distance_to(p0, created), distance_to(p1, created)) > max_error_) return false;
+  if (accept && !accept(h, m)) return false;
   if (!checker().geometry_ok(h, co, m)) return false;
   mesh_.collapse(h);
   mesh_.set_point(v1, to_point(m));
@@ -603,15 +620,6 @@ bool QualityPass::remove_spike(Mesh::VertexHandle v) {
   return false;
 }
 
-// The angle between the normals of two triangles, degrees (0: flat, 180:
-// folded flat onto each other; 0 when either is degenerate), as
-// mesh_checks.h measures an edge's fold.
-double fold_between(const Tri& a, const Tri& b) {
-  const Vec3 na = (a[1] - a[0]).cross(a[2] - a[0]), nb = (b[1] - b[0]).cross(b[2] - b[0]);
-  if (na.isZero() || nb.isZero()) return 0.0;
-  return std::atan2(na.cross(nb).norm(), na.dot(nb)) * (180.0 / M_PI);
-}
-
 // The folds around a collapse of h with its kept end at m (mesh_checks.h,
 // kFoldDegrees): the sharpest fold and the number of edges beyond
 // kFoldDegrees over the edges of the faces around either end, before the
@@ -654,7 +662,7 @@ CollapseFolds folds_of_collapse(const Mesh& mesh, Mesh::HalfedgeHandle h, const 
     if (!f0.is_valid() || !f1.is_valid()) continue;
     for (auto g : {f0, f1})
       if (std::find(patch.begin(), patch.end(), g) == patch.end()) patch.push_back(g);
-    const double f = fold_between(triangle(corner_ids(f0)), triangle(corner_ids(f1)));
+    const double f = edge_fold_degrees(mesh, e);
     r.sharpest_before = std::max(r.sharpest_before, f);
     r.folded_before += f > kFoldDegrees ? 1 : 0;
   }
@@ -683,7 +691,7 @@ CollapseFolds folds_of_collapse(const Mesh& mesh, Mesh::HalfedgeHandle h, const 
         for (int m = 0; m < 3; ++m)
           across = across || (after[j][static_cast<std::size_t>(m)] == b && after[j][static_cast<std::size_t>((m + 1) % 3)] == a);
         if (!across) continue;
-        const double f = fold_between(moved(after[i]), moved(after[j]));
+        const double f = fold_degrees(moved(after[i]), moved(after[j]));
         r.sharpest_after = std::max(r.sharpest_after, f);
         r.folded_after += f > kFoldDegrees ? 1 : 0;
       }
@@ -704,44 +712,13 @@ bool QualityPass::unfold(Mesh::EdgeHandle e) {
   CollapseOptions co;
   co.min_angle = 0.0;
   co.max_normal_change = 180.0;
-  // (halfedge side, where between its ends the kept vertex goes)
-  for (const auto& [side, where] : {std::pair<int, double>{0, 1.0}, {1, 1.0}, {0, 0.5}}) {
-    const auto h = mesh_.halfedge_handle(e, side);
-    if (!collapse_keeps_topology(mesh_, h)) continue;
-    const auto v0 = mesh_.from_vertex_handle(h), v1 = mesh_.to_vertex_handle(h);
-    const Vec3 p0 = pos(mesh_, v0), p1 = pos(mesh_, v1), m = (1.0 - where) * p0 + where * p1;
-    const auto gone0 = mesh_.face_handle(h), gone1 = mesh_.face_handle(mesh_.opposite_halfedge_handle(h));
-    std::vector<Tri> created;
-    bool touches = false;
-    double before = std::min(face_min_angle(mesh_, gone0), face_min_angle(mesh_, gone1)), after = 180.0;
-    const auto add = [&](Mesh::FaceHandle g) {
-      before = std::min(before, face_min_angle(mesh_, g));
-      Tri t;
-      int i = 0;
-      for (auto w : mesh_.fv_range(g)) t[i++] = (w == v0 || w == v1) ? m : pos(mesh_, w);
-      after = std::min(after, triangle_min_angle(t[0], t[1], t[2]));
-      touches = touches || blocked(t);
-      created.push_back(t);
-      return true;
-    };
-    if (where == 1.0) {
-      for (auto g : mesh_.vf_range(v0))
-        if (g != gone0 && g != gone1) add(g);
-    } else {
-      for_each_face_moved_by_collapse(mesh_, h, add);
-    }
-    if (touches || (after < bound_ && !(after > before + 1e-6))) continue;
-    if (max_error_ > 0.0 && std::max(distance_to(p0, created), distance_to(p1, created)) > max_error_) continue;
+  const Accept fewer_folds = [&](Mesh::HalfedgeHandle h, const Vec3& m) {
     const CollapseFolds f = folds_of_collapse(mesh_, h, m);
-    if (f.folded_after >= f.folded_before || f.sharpest_after > f.sharpest_before) continue;
-    if (!(where == 1.0 ? checker().geometry_ok(h, co) : checker().geometry_ok(h, co, m))) continue;
-    mesh_.collapse(h);
-    mesh_.set_point(v1, to_point(m));
-    checker().note_vertex(v1);
-    watch_faces_around(v1);
-    return true;
-  }
-  return false;
+    return f.folded_after < f.folded_before && f.sharpest_after <= f.sharpest_before;
+  };
+  const auto h0 = mesh_.halfedge_handle(e, 0), h1 = mesh_.halfedge_handle(e, 1);
+  return collapse_into_end(h0, co, fewer_folds) || collapse_into_end(h1, co, fewer_folds) ||
+         (collapse_keeps_topology(mesh_, h0) && collapse_to(h0, 0.5, co, fewer_folds));
 }
 
 // Flips an edge folded beyond kFoldDegrees when that leaves fewer folded
@@ -766,10 +743,10 @@ bool QualityPass::unfold_by_flip(Mesh::EdgeHandle e) {
   const Tri v1a = across(n0), av0 = across(mesh_.next_halfedge_handle(n0));
   const Tri v0b = across(n1), bv1 = across(mesh_.next_halfedge_handle(n1));
   const Tri old0 = f->old0(), old1 = f->old1(), new0 = f->new0(), new1 = f->new1();
-  const std::array<double, 5> old_folds{fold_between(old0, old1), fold_between(old0, v1a), fold_between(old0, av0),
-                                        fold_between(old1, v0b), fold_between(old1, bv1)};
-  const std::array<double, 5> new_folds{fold_between(new0, new1), fold_between(new1, v1a), fold_between(new0, av0),
-                                        fold_between(new0, v0b), fold_between(new1, bv1)};
+  const std::array<double, 5> old_folds{fold_degrees(old0, old1), fold_degrees(old0, v1a), fold_degrees(old0, av0),
+                                        fold_degrees(old1, v0b), fold_degrees(old1, bv1)};
+  const std::array<double, 5> new_folds{fold_degrees(new0, new1), fold_degrees(new1, v1a), fold_degrees(new0, av0),
+                                        fold_degrees(new0, v0b), fold_degrees(new1, bv1)};
   const auto beyond = [](const std::array<double, 5>& x) {
     return std::count_if(x.begin(), x.end(), [](double y) { return y > kFoldDegrees; });
   };
@@ -797,11 +774,7 @@ void QualityPass::request_status() {
 std::size_t QualityPass::unfold_phase() {
   request_status();
   const auto folded = [&](Mesh::EdgeHandle e) {
-    if (mesh_.status(e).deleted() || mesh_.is_boundary(e)) return false;
-    const auto t0 = corners(mesh_, mesh_.face_handle(mesh_.halfedge_handle(e, 0)));
-    const auto t1 = corners(mesh_, mesh_.face_handle(mesh_.halfedge_handle(e, 1)));
-    return fold_between(Tri{pos(mesh_, t0[0]), pos(mesh_, t0[1]), pos(mesh_, t0[2])},
-                        Tri{pos(mesh_, t1[0]), pos(mesh_, t1[1]), pos(mesh_, t1[2])}) > kFoldDegrees;
+    return !mesh_.status(e).deleted() && !mesh_.is_boundary(e) && edge_fold_degrees(mesh_, e) > kFoldDegrees;
   };
   std::vector<int> edges;
   for (auto e : mesh_.edges())

@@ -4,6 +4,7 @@
 // skipping ranges) and never modify the mesh.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <string>
 
@@ -59,6 +60,14 @@ double smallest_angle_degrees(const Mesh& mesh);
 // An edge folding by more than kFoldDegrees is a wedge thinner than 20
 // degrees: a fin, a crumple where a model's fronts met, a pleat.
 constexpr double kFoldDegrees = 160.0;
+
+// The fold between two triangles sharing an edge (their corners in their
+// faces' order), degrees: the angle between their normals; 0 when either is
+// degenerate.
+double fold_degrees(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b);
+
+// The fold of an edge with two faces, degrees (fold_degrees of its faces).
+double edge_fold_degrees(const Mesh& mesh, Mesh::EdgeHandle e);
 
 // The largest fold of any edge with two faces, degrees (0 for a mesh
 // without such an edge; a degenerate face folds by nothing).
