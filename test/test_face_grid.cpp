@@ -214,6 +214,64 @@ TEST(FaceGrid, refresh_after_moves_and_splits_finds_every_face_a_rebuild_would) 
   }
 }
 
+TEST(FaceGrid, renumber_after_collapses_and_garbage_collection_finds_every_face_a_rebuild_would) {
+  Mesh mesh = make_geodesic_sphere(Vec3(-2, 1, 4), 5.0, 3);
+  mesh.request_vertex_status();
+  mesh.request_edge_status();
+  mesh.request_halfedge_status();
+  mesh.request_face_status();
+  const double margin = 0.05;
+  FaceGrid grid;
+  grid.rebuild(mesh, 1.0, margin);
+  std::mt19937 rng(23);
+  std::uniform_int_distribution<int> coin(0, 19);
+  // Every twentieth edge collapsed where OpenMesh allows it; the faces around
+  // each kept vertex registered with their new boxes, as a caller keeping
+  // the grid current does.
+  std::size_t collapses = 0;
+  for (auto e : mesh.edges()) {
+    if (mesh.status(e).deleted() || coin(rng) != 0) continue;
+    const auto h = mesh.halfedge_handle(e, 0);
+    if (!mesh.is_collapse_ok(h)) continue;
+    const auto kept = mesh.to_vertex_handle(h);
+    mesh.collapse(h);
+    for (auto f : mesh.vf_range(kept)) grid.insert(mesh, f);
+    ++collapses;
+  }
+  ASSERT_GT(collapses, 20u);
+  const std::size_t before = mesh.n_faces();
+  std::vector<Mesh::FaceHandle> all;
+  for (std::size_t i = 0; i < before; ++i) all.emplace_back(static_cast<int>(i));
+  std::vector<Mesh::VertexHandle*> vertices;
+  std::vector<Mesh::HalfedgeHandle*> halfedges;
+  std::vector<Mesh::FaceHandle*> faces;
+  for (auto& f : all) faces.push_back(&f);
+  mesh.garbage_collection(vertices, halfedges, faces);
+  ASSERT_EQ(mesh.n_faces(), before - 2 * collapses);
+  std::vector<int> to;
+  for (const auto& f : all) to.push_back(f.is_valid() ? f.idx() : -1);
+  grid.renumber(to, mesh.n_faces());
+  std::uniform_real_distribution<double> where(-8.0, 10.0), size(0.0, 2.0);
+  for (int i = 0; i < 400; ++i) {
+    Box q;
+    q.lo = Vec3(where(rng) - 2.0, where(rng) - 1.0, where(rng) + 2.0);
+    q.hi = q.lo + Vec3(size(rng), size(rng), size(rng));
+    std::vector<int> expected, visited;
+    for (auto f : mesh.faces()) {
+      std::array<Vec3, 3> t;
+      int k = 0;
+      for (auto v : mesh.fv_range(f)) t[k++] = to_eigen(mesh.point(v));
+      if (boxes_meet(bounds(t, margin), q)) expected.push_back(f.idx());
+    }
+    grid.for_each_near(q.lo, q.hi, [&](int f) { visited.push_back(f); });
+    std::sort(visited.begin(), visited.end());
+    EXPECT_EQ(std::unique(visited.begin(), visited.end()), visited.end()) << "query " << i;
+    ASSERT_TRUE(visited.empty() || (visited.front() >= 0 && static_cast<std::size_t>(visited.back()) < mesh.n_faces()))
+        << "query " << i << " was offered a face that is gone";
+    EXPECT_TRUE(std::includes(visited.begin(), visited.end(), expected.begin(), expected.end())) << "query " << i;
+  }
+}
+
 // The walk's cell set (cell_lists.h): against std::set over passes of
 // random keys, with growth inside a pass and passes of every size after it.
 TEST(CellSet, each_pass_holds_exactly_the_cells_added_in_it) {

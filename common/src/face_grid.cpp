@@ -163,6 +163,29 @@ bool FaceGrid::reregister_redo(const Mesh& mesh) {
   return true;
 }
 
+void FaceGrid::renumber(const std::vector<int>& to, std::size_t faces) {
+  const auto new_index = [&](int f) { return static_cast<std::size_t>(f) < to.size() ? to[static_cast<std::size_t>(f)] : -1; };
+  cells_.for_each_list([&](std::vector<int>& list) {
+    std::size_t kept = 0;
+    for (const int f : list)
+      if (const int g = new_index(f); g >= 0) list[kept++] = g;
+    list.resize(kept);
+  });
+  const auto move = [&](std::vector<Vec3>& per_face, double fill) {
+    std::vector<Vec3> moved(faces, Vec3::Constant(fill));
+    for (std::size_t i = 0; i < per_face.size(); ++i)
+      if (const int g = new_index(static_cast<int>(i)); g >= 0 && static_cast<std::size_t>(g) < faces)
+        moved[static_cast<std::size_t>(g)] = per_face[i];
+    per_face.swap(moved);
+  };
+  move(box_lo_, kInf);
+  move(box_hi_, -kInf);
+  move(reg_lo_, kInf);
+  move(reg_hi_, -kInf);
+  stamp_.assign(faces, 0);
+  current_stamp_ = 0;
+}
+
 void FaceGrid::register_new_faces(const Mesh& mesh) {
   Vec3 lo, hi;
   for (std::size_t i = reg_lo_.size(); i < mesh.n_faces(); ++i) {

@@ -33,6 +33,12 @@ void IntersectionGuard::rebuild() {
   flipped_faces_.clear();
 }
 
+void IntersectionGuard::renumber_faces(const std::vector<int>& to) {
+  grid_.renumber(to, mesh_->n_faces());
+  moved_vertices_.clear();
+  flipped_faces_.clear();
+}
+
 void IntersectionGuard::prepare_moves() {
   // Only faces whose box grew are registered again, with the same margin as
   // a rebuild: the grid offers the exact tests every face a rebuild would

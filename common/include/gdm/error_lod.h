@@ -93,8 +93,10 @@ class CollapseChecker {
   // The same for a collapse that also moves the kept (to-)vertex to
   // `target`: every face around either vertex is checked.
   bool geometry_ok(Mesh::HalfedgeHandle h, const CollapseOptions& options, const Vec3& target);
-  // Registers the faces around v after a collapse into v.
+  // Registers the faces around v after a collapse into v (or a move of v).
   void note_vertex(Mesh::VertexHandle v);
+  // The faces renumbered by the mesh's garbage collection (FaceGrid::renumber).
+  void renumber_faces(const std::vector<int>& to) { grid_.renumber(to, mesh_->n_faces()); }
 
  private:
   const Mesh* mesh_;

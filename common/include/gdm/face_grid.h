@@ -42,6 +42,12 @@ class FaceGrid {
   // Registers the faces added since the last rebuild or refresh (a split
   // leaves the faces it shrinks inside their registered boxes).
   void register_new_faces(const Mesh& mesh);
+  // The faces renumbered (a mesh's garbage collection): face i becomes
+  // to[i], or leaves the grid when to[i] < 0; `faces` is the new count.
+  // Every face keeps the boxes it was registered with: a grid that held
+  // every face's present box before still does, for the cost of one pass
+  // over its entries instead of a rebuild.
+  void renumber(const std::vector<int>& to, std::size_t faces);
 
   // Has the face a registered box?
   bool registered(int face) const {

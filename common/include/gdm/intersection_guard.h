@@ -41,6 +41,11 @@ class IntersectionGuard {
   void prepare_moves();
   // Registers the faces added (by splits) since rebuild() or prepare_moves().
   void note_new_faces() { grid_.register_new_faces(*mesh_); }
+  // The mesh's faces renumbered by its garbage collection (FaceGrid::renumber):
+  // instead of a rebuild, for a caller that registered every change as it
+  // made it (note_face after moves and collapses, note_new_faces after
+  // splits, flips through flip_is_safe), so nothing waits for prepare_moves().
+  void renumber_faces(const std::vector<int>& to);
 
   // Would moving v to p leave every face non-degenerate, with its orientation
   // kept, and free of improper intersections with all other faces? `hint`: a
