@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <random>
 #include <set>
+#include <stdexcept>
 #include <vector>
 
 #include "gdm/face_grid.h"
@@ -270,6 +271,11 @@ TEST(FaceGrid, renumber_after_collapses_and_garbage_collection_finds_every_face_
         << "query " << i << " was offered a face that is gone";
     EXPECT_TRUE(std::includes(visited.begin(), visited.end(), expected.begin(), expected.end())) << "query " << i;
   }
+  // A numbering that moves a face up is not a garbage collection's.
+  std::vector<int> up(mesh.n_faces());
+  for (std::size_t i = 0; i < up.size(); ++i) up[i] = static_cast<int>(i);
+  std::swap(up[0], up[1]);
+  EXPECT_THROW(grid.renumber(up, mesh.n_faces()), std::invalid_argument);
 }
 
 // The walk's cell set (cell_lists.h): against std::set over passes of

@@ -1,6 +1,8 @@
 #include "gdm/face_grid.h"
 
 #include <limits>
+#include <stdexcept>
+#include <string>
 
 #include "gdm/cell_hash.h"
 
@@ -164,6 +166,10 @@ bool FaceGrid::reregister_redo(const Mesh& mesh) {
 }
 
 void FaceGrid::renumber(const std::vector<int>& to, std::size_t faces) {
+  for (std::size_t i = 0; i < to.size(); ++i)
+    if (to[i] > static_cast<int>(i) || (to[i] >= 0 && static_cast<std::size_t>(to[i]) >= faces))
+      throw std::invalid_argument("FaceGrid::renumber: face " + std::to_string(i) + " would move up to " +
+                                  std::to_string(to[i]) + " (a garbage collection only moves faces down)");
   const auto new_index = [&](int f) { return static_cast<std::size_t>(f) < to.size() ? to[static_cast<std::size_t>(f)] : -1; };
   cells_.for_each_list([&](std::vector<int>& list) {
     std::size_t kept = 0;
@@ -173,34 +179,22 @@ void FaceGrid::renumber(const std::vector<int>& to, std::size_t faces) {
   });
   // A garbage collection moves faces only down, into places of faces that
   // left (to[i] <= i): the per-face boxes then move in place, in ascending
-  // order, each read before its place is written (no allocation: a fresh
-  // copy of the four arrays per collection cost more than the rebuild it
-  // replaced, in page faults). Any other numbering goes through a copy.
-  bool downward = true;
-  for (std::size_t i = 0; i < to.size() && downward; ++i) downward = to[i] <= static_cast<int>(i);
+  // order, each place written only by a face from above it after its own
+  // face moved out or left (no allocation: a fresh copy of the four arrays
+  // per collection cost more than the rebuilds it replaced, in page faults).
   const auto move = [&](std::vector<Vec3>& per_face, double fill) {
-    if (downward) {
-      // Ascending: a place is written only by a face from above it, after
-      // its own face was moved out (or left).
-      const std::size_t n = per_face.size();
-      for (std::size_t i = 0; i < to.size(); ++i) {
-        const int g = to[i];
-        if (g == static_cast<int>(i)) continue;
-        if (i < n) {
-          if (g >= 0) per_face[static_cast<std::size_t>(g)] = per_face[i];
-          per_face[i] = Vec3::Constant(fill);  // its face left (a face from above may take the place)
-        } else if (g >= 0 && static_cast<std::size_t>(g) < n) {
-          per_face[static_cast<std::size_t>(g)] = Vec3::Constant(fill);  // a face never registered
-        }
+    const std::size_t n = per_face.size();
+    for (std::size_t i = 0; i < to.size(); ++i) {
+      const int g = to[i];
+      if (g == static_cast<int>(i)) continue;
+      if (i < n) {
+        if (g >= 0) per_face[static_cast<std::size_t>(g)] = per_face[i];
+        per_face[i] = Vec3::Constant(fill);  // its face left (a face from above may take the place)
+      } else if (g >= 0 && static_cast<std::size_t>(g) < n) {
+        per_face[static_cast<std::size_t>(g)] = Vec3::Constant(fill);  // a face never registered
       }
-      per_face.resize(faces, Vec3::Constant(fill));  // as long as stamp_, as grow_to() keeps them
-      return;
     }
-    std::vector<Vec3> moved(faces, Vec3::Constant(fill));
-    for (std::size_t i = 0; i < per_face.size(); ++i)
-      if (const int g = new_index(static_cast<int>(i)); g >= 0 && static_cast<std::size_t>(g) < faces)
-        moved[static_cast<std::size_t>(g)] = per_face[i];
-    per_face.swap(moved);
+    per_face.resize(faces, Vec3::Constant(fill));  // as long as stamp_, as grow_to() keeps them
   };
   move(box_lo_, kInf);
   move(box_hi_, -kInf);

@@ -44,6 +44,8 @@ class FaceGrid {
   void register_new_faces(const Mesh& mesh);
   // The faces renumbered (a mesh's garbage collection): face i becomes
   // to[i], or leaves the grid when to[i] < 0; `faces` is the new count.
+  // Faces only move down (to[i] <= i, to[i] < faces), as a garbage
+  // collection compacts; else std::invalid_argument, the grid unchanged.
   // Every face keeps the boxes it was registered with: a grid that held
   // every face's present box before still does, for the cost of one pass
   // over its entries instead of a rebuild.
