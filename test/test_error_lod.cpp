@@ -137,6 +137,17 @@ TEST(SplitCriterion, measures_the_offset_of_a_face_from_the_surface) {
   }
 }
 
+TEST(SplitCriterion, noise_estimate_is_the_same_for_any_thread_count) {
+  ph::Grid grid;
+  grid.dims = {36, 36, 36};
+  const Volume noisy =
+      ph::with_gaussian_noise(ph::voxelize(grid, ph::sphere(grid.center(), 11.0), kBackground, kContrast), 0.07 * kContrast, 9);
+  const Mesh mesh = make_geodesic_sphere(grid.center(), 11.0, 4);
+  const double one = estimate_crossing_noise(mesh, noisy, kThreshold, 1.5, 1);
+  EXPECT_GT(one, 0.0);
+  for (const int threads : {2, 3, 8}) EXPECT_EQ(estimate_crossing_noise(mesh, noisy, kThreshold, 1.5, threads), one) << threads;
+}
+
 TEST(SplitCriterion, noise_estimate_follows_the_image_noise) {
   // A sphere's threshold crossings, seen from a fine mesh on it: on a clean
   // volume only the faces' chords scatter the distances; the noise adds in

@@ -1203,7 +1203,7 @@ void Deformer::finish(int cycle, DeformResult& result) {
   fit.prevent_self_intersection = o_.prevent_self_intersection;
   fit.threads = threads_;
   // The fit keeps what a vertex alone sees in proportion to the image noise.
-  fit.noise = estimate_crossing_noise(mesh_, volume_, o_.threshold, std::max(1.5, 3.0 * o_.lod_tolerance) * voxel_);
+  fit.noise = estimate_crossing_noise(mesh_, volume_, o_.threshold, std::max(1.5, 3.0 * o_.lod_tolerance) * voxel_, threads_);
   std::vector<Vec3> origin;  // where the deformation left each vertex (new ones: where created)
   if (o_.subvoxel_fit || budget) result.fit_moves += fit_to_threshold(mesh_, volume_, o_.threshold, fit, origin).moves;
   if (o_.subvoxel_fit && !budget) sharpen_edges(fit, result);
@@ -1219,7 +1219,7 @@ void Deformer::finish(int cycle, DeformResult& result) {
   collapse.search = std::max(1.5 * voxel_, 3.0 * tolerance);
   collapse.min_angle = o_.lod_min_angle;
   // Faces are not split, nor kept, to follow image noise (error_lod.h).
-  collapse.noise = estimate_crossing_noise(mesh_, volume_, o_.threshold, collapse.search);
+  collapse.noise = estimate_crossing_noise(mesh_, volume_, o_.threshold, collapse.search, threads_);
   for (int round = 0; round < o_.lod_rounds; ++round) {
     const std::size_t c = collapse_flat_edges(mesh_, &volume_, o_.threshold, collapse);
     const std::size_t s = split_deviating_faces(mesh_, volume_, o_.threshold, tolerance, 0.5 * voxel_, cycle, collapse.noise);

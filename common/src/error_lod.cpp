@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "gdm/parallel.h"
 #include "gdm/predicates.h"
 #include "gdm/resampler.h"
 #include "gdm/surface_fit.h"
@@ -117,17 +118,24 @@ double face_deviation(const Mesh& mesh, Mesh::FaceHandle f, const Volume& volume
   return triangle_deviation(a, b, c, volume, threshold, search_mm, noise_mm).value();
 }
 
-double estimate_crossing_noise(const Mesh& mesh, const Volume& volume, double threshold, double search_mm) {
-  std::vector<double> r;
-  r.reserve(7 * mesh.n_faces());
-  for (auto f : mesh.faces()) {
-    if (mesh.has_face_status() && mesh.status(f).deleted()) continue;
+double estimate_crossing_noise(const Mesh& mesh, const Volume& volume, double threshold, double search_mm,
+                               int threads) {
+  // Each face's seven residuals in its own slots, the faces on the threads
+  // at once (it was a sequential pass of seven crossings per face: about
+  // half a second on the T1 head's 410,000 faces); the median is that of
+  // the same numbers for any thread count.
+  constexpr std::size_t kPoints = 7;
+  std::vector<double> r(kPoints * mesh.n_faces(), std::numeric_limits<double>::quiet_NaN());
+  parallel_for(mesh.n_faces(), resolve_thread_count(threads), [&](std::size_t i) {
+    const Mesh::FaceHandle f(static_cast<int>(i));
+    if (mesh.has_face_status() && mesh.status(f).deleted()) return;
     auto it = mesh.cfv_iter(f);
     const Vec3 a = pos(mesh, *it), b = pos(mesh, *++it), c = pos(mesh, *++it);
-    double res[7];
-    if (!std::isfinite(triangle_deviation(a, b, c, volume, threshold, search_mm, 0.0, res).mean)) continue;
-    for (double x : res) r.push_back(std::abs(x));
-  }
+    double res[kPoints];
+    if (!std::isfinite(triangle_deviation(a, b, c, volume, threshold, search_mm, 0.0, res).mean)) return;
+    for (std::size_t k = 0; k < kPoints; ++k) r[kPoints * i + k] = std::abs(res[k]);
+  });
+  r.erase(std::remove_if(r.begin(), r.end(), [](double x) { return std::isnan(x); }), r.end());
   if (r.empty()) return 0.0;
   const auto mid = r.begin() + static_cast<long>(r.size() / 2);
   std::nth_element(r.begin(), mid, r.end());

@@ -30,8 +30,10 @@ double face_deviation(const Mesh& mesh, Mesh::FaceHandle f, const Volume& volume
 // The standard deviation (mm) of one crossing distance that the image noise
 // causes, estimated over the whole mesh from the residuals of the faces'
 // seven distances about their mean (median absolute residual: robust to the
-// few faces that straddle an edge; about 0 on a noise-free volume).
-double estimate_crossing_noise(const Mesh& mesh, const Volume& volume, double threshold, double search_mm);
+// few faces that straddle an edge; about 0 on a noise-free volume). The
+// faces on `threads` workers (0 = all cores); the same for any count.
+double estimate_crossing_noise(const Mesh& mesh, const Volume& volume, double threshold, double search_mm,
+                               int threads = 0);
 
 // Splits the longest edge of every face that deviates by more than
 // `tolerance_mm` (faces with no crossing within reach are left alone) and
