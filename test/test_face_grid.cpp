@@ -48,6 +48,19 @@ Box bounds(const std::array<Vec3, 3>& t, double margin) {
   return b;
 }
 
+// The mesh's faces whose boxes (with the margin) meet q, ascending: what a
+// grid over the mesh as it is now must offer for q (a brute-force scan).
+std::vector<int> faces_meeting(const Mesh& mesh, double margin, const Box& q) {
+  std::vector<int> out;
+  for (auto f : mesh.faces()) {
+    std::array<Vec3, 3> t;
+    int k = 0;
+    for (auto v : mesh.fv_range(f)) t[k++] = to_eigen(mesh.point(v));
+    if (boxes_meet(bounds(t, margin), q)) out.push_back(f.idx());
+  }
+  return out;
+}
+
 Box random_query(std::mt19937& rng) {
   std::uniform_int_distribution<int> where(-48, 48), size(0, 20);
   Box q;
@@ -199,13 +212,8 @@ TEST(FaceGrid, refresh_after_moves_and_splits_finds_every_face_a_rebuild_would) 
       Box q;
       q.lo = Vec3(where(rng) - 1.0, where(rng), where(rng) - 6.0);
       q.hi = q.lo + Vec3(size(rng), size(rng), size(rng));
-      std::vector<int> expected, visited;
-      for (auto f : mesh.faces()) {
-        std::array<Vec3, 3> t;
-        int k = 0;
-        for (auto v : mesh.fv_range(f)) t[k++] = to_eigen(mesh.point(v));
-        if (boxes_meet(bounds(t, margin), q)) expected.push_back(f.idx());
-      }
+      const std::vector<int> expected = faces_meeting(mesh, margin, q);
+      std::vector<int> visited;
       grid.for_each_near(q.lo, q.hi, [&](int f) { visited.push_back(f); });
       std::sort(visited.begin(), visited.end());
       EXPECT_EQ(std::unique(visited.begin(), visited.end()), visited.end()) << "round " << round << " query " << i;
@@ -257,13 +265,8 @@ TEST(FaceGrid, renumber_after_collapses_and_garbage_collection_finds_every_face_
     Box q;
     q.lo = Vec3(where(rng) - 2.0, where(rng) - 1.0, where(rng) + 2.0);
     q.hi = q.lo + Vec3(size(rng), size(rng), size(rng));
-    std::vector<int> expected, visited;
-    for (auto f : mesh.faces()) {
-      std::array<Vec3, 3> t;
-      int k = 0;
-      for (auto v : mesh.fv_range(f)) t[k++] = to_eigen(mesh.point(v));
-      if (boxes_meet(bounds(t, margin), q)) expected.push_back(f.idx());
-    }
+    const std::vector<int> expected = faces_meeting(mesh, margin, q);
+    std::vector<int> visited;
     grid.for_each_near(q.lo, q.hi, [&](int f) { visited.push_back(f); });
     std::sort(visited.begin(), visited.end());
     EXPECT_EQ(std::unique(visited.begin(), visited.end()), visited.end()) << "query " << i;
