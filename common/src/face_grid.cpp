@@ -170,13 +170,17 @@ void FaceGrid::renumber(const std::vector<int>& to, std::size_t faces) {
     if (to[i] > static_cast<int>(i) || (to[i] >= 0 && static_cast<std::size_t>(to[i]) >= faces))
       throw std::invalid_argument("FaceGrid::renumber: face " + std::to_string(i) + " would move up to " +
                                   std::to_string(to[i]) + " (a garbage collection only moves faces down)");
-  const auto new_index = [&](int f) { return static_cast<std::size_t>(f) < to.size() ? to[static_cast<std::size_t>(f)] : -1; };
-  cells_.for_each_list([&](std::vector<int>& list) {
-    std::size_t kept = 0;
-    for (const int f : list)
-      if (const int g = new_index(f); g >= 0) list[kept++] = g;
-    list.resize(kept);
-  });
+  // Only the faces that leave or move change their cells' entries: their
+  // entries go (a collection moves a few hundred faces of hundreds of
+  // thousands; rewriting every cell's list was most of its cost), and each
+  // moved face is listed again under its new index in the cells of its
+  // union box (which holds every box it was registered with).
+  std::vector<int>& changed = redo_;
+  changed.clear();
+  for (std::size_t i = 0; i < to.size(); ++i)
+    if (to[i] != static_cast<int>(i)) changed.push_back(static_cast<int>(i));
+  for (const int i : changed)
+    if (static_cast<std::size_t>(i) < box_lo_.size()) remove_from_cells(i);
   // A garbage collection moves faces only down, into places of faces that
   // left (to[i] <= i): the per-face boxes then move in place, in ascending
   // order, each place written only by a face from above it after its own
@@ -200,6 +204,8 @@ void FaceGrid::renumber(const std::vector<int>& to, std::size_t faces) {
   move(box_hi_, -kInf);
   move(reg_lo_, kInf);
   move(reg_hi_, -kInf);
+  for (const int i : changed)
+    if (const int g = to[static_cast<std::size_t>(i)]; g >= 0 && registered(g)) add_to_cells(g, box_lo_[g], box_hi_[g]);
   stamp_.assign(faces, 0);
   current_stamp_ = 0;
 }

@@ -153,6 +153,11 @@ class QualityPass {
     for (auto f : mesh_.vf_range(v)) watch_.push_back(f.idx());
   }
   void collect_garbage();
+  // A collapse: the faces it deletes wait for collect_garbage().
+  void collapse(Mesh::HalfedgeHandle h) {
+    mesh_.collapse(h);
+    garbage_ = true;
+  }
   // An edge's flip: the faces (v0, v1, a) of h0 and (v1, v0, b) of h1
   // become (v0, b, a) and (v1, a, b).
   struct Flip {
@@ -195,6 +200,7 @@ class QualityPass {
   const QualityOptions& o_;
   double bound_;
   std::size_t undone_ = 0;  // splits undone by the last collapse phase
+  bool garbage_ = true;  // deleted elements may wait for collect_garbage() (at first: whatever the mesh came with)
   bool undo_splits_ = false;  // the last tier: undo the splits that did not help
   double max_error_ = 0.0;  // the error bound of the current tier, mm
   double voxel_ = 1.0;  // mean edge length, a length scale for tolerances
@@ -267,8 +273,11 @@ std::vector<Mesh::FaceHandle> QualityPass::bad() {
 }
 
 // The mesh's garbage collection, the watched faces renumbered with it, and
-// the faces of the guard's and the checker's grids where they are current.
+// the faces of the guard's and the checker's grids where they are current;
+// nothing when no collapse deleted faces since the last one.
 void QualityPass::collect_garbage() {
+  if (!garbage_) return;  // nothing deleted since the last: nothing would move
+  garbage_ = false;
   const bool renumber = (guard_ && guard_current_) || (checker_ && checker_current_);
   std::vector<Mesh::FaceHandle> kept, all;
   for (int i : watch_)
@@ -481,7 +490,7 @@ std::size_t QualityPass::collapse_phase() {
     for (auto w : mesh_.vv_range(t.m)) same = same && (w == t.a || w == t.b || w == t.c || w == t.d);
     const auto h = mesh_.find_halfedge(t.m, t.b);
     if (!same || !h.is_valid() || !collapse_keeps_topology(mesh_, h)) continue;
-    mesh_.collapse(h);
+    collapse(h);
     note_changed_vertex(t.b);
     ++undone_;
   }
@@ -517,7 +526,7 @@ bool QualityPass::collapse_into_end(Mesh::HalfedgeHandle h, const CollapseOption
   if (touches || (after < bound_ && !(after > before + 1e-6))) return false;
   if (max_error_ > 0.0 && distance_to(pos(mesh_, v0), created) > max_error_) return false;
   if (accept && !accept(h, pos(mesh_, v1))) return false;
-  mesh_.collapse(h);
+  collapse(h);
   note_changed_vertex(v1);
   return true;
 }
@@ -560,7 +569,7 @@ bool QualityPass::collapse_to(Mesh::HalfedgeHandle h, double where, const Collap
   if (max_error_ > 0.0 && std::max(distance_to(p0, created), distance_to(p1, created)) > max_error_) return false;
   if (accept && !accept(h, m)) return false;
   if (!checker().geometry_ok(h, co, m)) return false;
-  mesh_.collapse(h);
+  collapse(h);
   mesh_.set_point(v1, to_point(m));
   note_changed_vertex(v1);
   return true;
@@ -631,7 +640,7 @@ bool QualityPass::remove_spike(Mesh::VertexHandle v) {
       facing = facing && (t[1] - t[0]).cross(t[2] - t[0]).dot(ring_normal) > 0.0 && !blocked(t);
     }
     if (!facing || !checker().geometry_ok(h, co)) continue;
-    mesh_.collapse(h);
+    collapse(h);
     note_changed_vertex(into);
     return true;
   }

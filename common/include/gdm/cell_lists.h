@@ -56,12 +56,6 @@ class CellLists {
   }
   // Cells created so far.
   std::size_t size() const { return used_; }
-  // Calls visit(list) for every cell's list (in no particular order).
-  template <class Visit>
-  void for_each_list(Visit&& visit) {
-    for (std::size_t i = 0; i < keys_.size(); ++i)
-      if (keys_[i] != kEmpty) visit(lists_[i]);
-  }
 
  private:
   // cell_key() uses 63 bits: no cell has this key.
