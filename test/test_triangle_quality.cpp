@@ -329,6 +329,46 @@ TEST(TriangleQuality, unfold_collapses_the_folded_edges_of_a_fin) {
   EXPECT_EQ(raised, 1u);
 }
 
+TEST(TriangleQuality, same_result_for_any_thread_count) {
+  // The pass with its fold phase on 1, 2 and 3 threads: a crumpled sphere
+  // (every seventh vertex raised 2 to 8 mm, star-shaped about the centre so
+  // nothing intersects), a face folded back over its neighbour, a fin.
+  Mesh crumpled = make_geodesic_sphere(Vec3::Zero(), 10.0, 3);
+  for (auto v : crumpled.vertices())
+    if (v.idx() % 7 == 0) crumpled.set_point(v, crumpled.point(v) * (1.0 + 0.2 + 0.6 * ((v.idx() * 37) % 11) / 10.0));
+  const auto ids = [](const Mesh& m, Mesh::FaceHandle f) {
+    std::vector<int> out;
+    for (auto v : m.fv_range(f)) out.push_back(v.idx());
+    return out;
+  };
+  QualityOptions o;
+  o.min_angle = 10.0;
+  o.max_error = 0.5;
+  o.unfold = true;
+  for (const Mesh& input : {crumpled, folded_over_sphere(), finned_sphere(16.0)}) {
+    test::expect_valid_closed_surface(input);
+    Mesh one = input;
+    o.threads = 1;
+    const QualityResult r1 = improve_triangle_quality(one, o);
+    std::printf("%zu edges folded beyond %.0f deg: %zu flips, %zu collapses (%zu unfolds, %zu unfolding flips)\n",
+                folded_edges(input), kFoldDegrees, r1.flips, r1.collapses, r1.unfolds, r1.unfold_flips);
+    EXPECT_GT(r1.flips + r1.collapses, 0u);
+    test::expect_valid_closed_surface(one);
+    for (const int threads : {2, 3}) {
+      Mesh mesh = input;
+      o.threads = threads;
+      const QualityResult r = improve_triangle_quality(mesh, o);
+      EXPECT_EQ(r.flips, r1.flips) << threads;
+      EXPECT_EQ(r.collapses, r1.collapses) << threads;
+      EXPECT_EQ(r.unfolds, r1.unfolds) << threads;
+      ASSERT_EQ(mesh.n_vertices(), one.n_vertices()) << threads;
+      ASSERT_EQ(mesh.n_faces(), one.n_faces()) << threads;
+      for (auto v : mesh.vertices()) EXPECT_EQ(to_eigen(mesh.point(v)), to_eigen(one.point(Mesh::VertexHandle(v.idx()))));
+      for (auto f : mesh.faces()) EXPECT_EQ(ids(mesh, f), ids(one, Mesh::FaceHandle(f.idx())));
+    }
+  }
+}
+
 TEST(TriangleQuality, removes_thin_spikes_narrower_than_spike_radius) {
   const auto farthest = [](const Mesh& m) {
     double r = 0.0;

@@ -1628,6 +1628,7 @@ void Deformer::improve_quality(DeformResult& result) {
   // Crumples where the model's fronts met (fins, flaps folded onto each
   // other): their folded edges collapsed where that leaves fewer folds.
   q.unfold = !o_.obstacle;
+  q.threads = threads_;
   const QualityResult r = improve_triangle_quality(mesh_, q);
   mesh_.release_vertex_status();
   mesh_.release_edge_status();

@@ -539,6 +539,7 @@ WrapResult shrink_wrap(const std::vector<Triangle>& input, const WrapOptions& w,
     q.min_angle = w.min_angle;
     q.max_error = 0.1 * w.cell_size;
     q.obstacle = &obstacle;
+    q.threads = w.threads;
     const QualityResult r = improve_triangle_quality(mesh, q);
     mesh.release_vertex_status();
     mesh.release_edge_status();

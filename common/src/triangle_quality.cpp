@@ -13,6 +13,7 @@
 #include "gdm/error_lod.h"
 #include "gdm/intersection_guard.h"
 #include "gdm/mesh_checks.h"
+#include "gdm/parallel.h"
 #include "gdm/predicates.h"
 
 namespace gdm {
@@ -803,9 +804,14 @@ std::size_t QualityPass::unfold_phase() {
   const auto folded = [&](Mesh::EdgeHandle e) {
     return !mesh_.status(e).deleted() && !mesh_.is_boundary(e) && edge_fold_degrees(mesh_, e) > kFoldDegrees;
   };
+  // Every edge's fold measured on the threads (a pass over a million edges,
+  // up to four times a run), the folded ones then listed in index order.
+  std::vector<char> is_folded(mesh_.n_edges(), 0);
+  parallel_for(mesh_.n_edges(), resolve_thread_count(o_.threads),
+               [&](std::size_t i) { is_folded[i] = folded(Mesh::EdgeHandle(static_cast<int>(i))); });
   std::vector<int> edges;
-  for (auto e : mesh_.edges())
-    if (folded(e)) edges.push_back(e.idx());
+  for (std::size_t i = 0; i < is_folded.size(); ++i)
+    if (is_folded[i]) edges.push_back(static_cast<int>(i));
   std::size_t flips = 0;
   for (int i : edges)
     if (folded(Mesh::EdgeHandle(i)) && unfold_by_flip(Mesh::EdgeHandle(i))) ++flips;

@@ -30,6 +30,8 @@ struct QualityOptions {
                                 // flipped or collapsed where that leaves fewer folds around (unfold_phase)
   bool prevent_self_intersection = true;  // flips and moves checked by the IntersectionGuard
   const Obstacle* obstacle = nullptr;     // triangles no operation may touch; not owned
+  int threads = 0;              // workers for the scans over every edge (the folds), 0 = all
+                                // cores; the operations run in order: the same result for any count
 };
 
 struct QualityResult {
