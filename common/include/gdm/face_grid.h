@@ -47,8 +47,8 @@ class FaceGrid {
   // Faces only move down (to[i] <= i, to[i] < faces), as a garbage
   // collection compacts; else std::invalid_argument, the grid unchanged.
   // Every face keeps the boxes it was registered with: a grid that held
-  // every face's present box before still does, for the cost of one pass
-  // over its entries instead of a rebuild.
+  // every face's present box before still does, for the cost of the cells
+  // of the faces that leave or move instead of a rebuild.
   void renumber(const std::vector<int>& to, std::size_t faces);
 
   // Has the face a registered box?
