@@ -188,9 +188,9 @@ void FaceGrid::renumber(const std::vector<int>& to, std::size_t faces) {
   // per collection cost more than the rebuilds it replaced, in page faults).
   const auto move = [&](std::vector<Vec3>& per_face, double fill) {
     const std::size_t n = per_face.size();
-    for (std::size_t i = 0; i < to.size(); ++i) {
+    for (const int changed_face : changed) {  // ascending, as the order above needs
+      const auto i = static_cast<std::size_t>(changed_face);
       const int g = to[i];
-      if (g == static_cast<int>(i)) continue;
       if (i < n) {
         if (g >= 0) per_face[static_cast<std::size_t>(g)] = per_face[i];
         per_face[i] = Vec3::Constant(fill);  // its face left (a face from above may take the place)
