@@ -111,7 +111,7 @@ class FaceGrid {
   // Per face: a box listed in every cell it touches, whose content refresh()
   // may leave in place (empty after a second insert_box: refresh re-registers).
   std::vector<Vec3> reg_lo_, reg_hi_;
-  std::vector<int> redo_;  // refresh()'s scratch
+  std::vector<int> redo_;  // scratch of refresh() (faces to register again) and renumber() (faces that leave or move)
   std::vector<std::uint32_t> stamp_;
   std::uint32_t current_stamp_ = 0;
   double widest_box_ = 0.0;
