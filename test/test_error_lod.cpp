@@ -345,3 +345,27 @@ TEST(ErrorLod, tooth_pulp_against_marching_cubes) {
   EXPECT_LE(mean, 0.15);
   EXPECT_LE(ratio, 0.40);
 }
+
+TEST(EdgeNoise, follows_the_voxel_noise_where_the_crossings_understate_it) {
+  // A sphere's edge seen from a fine mesh on it: the voxels' noise over the
+  // edge's slope is 0 on a clean volume and doubles with the noise's sigma;
+  // at 10 % of the contrast it exceeds the crossings' own scatter (which
+  // reads crossings a voxel apart, made of the same voxels).
+  ph::Grid grid;
+  grid.dims = {40, 40, 40};
+  const Volume clean = ph::voxelize(grid, ph::sphere(grid.center(), 12.0), kBackground, kContrast);
+  const Mesh mesh = make_geodesic_sphere(grid.center(), 12.0, 4);
+  const auto edge_noise = [&](const Volume& v, int threads) {
+    return estimate_edge_noise(mesh, v, estimate_voxel_noise(v), threads);
+  };
+  EXPECT_EQ(edge_noise(clean, 1), 0.0);
+  const Volume low = ph::with_gaussian_noise(clean, 0.05 * kContrast, 5);
+  const Volume high = ph::with_gaussian_noise(clean, 0.10 * kContrast, 5);
+  const double a = edge_noise(low, 1), b = edge_noise(high, 1);
+  std::printf("edge noise: sigma 5%% %.4f, sigma 10%% %.4f mm; crossing noise at 10%% %.4f mm\n", a, b,
+              estimate_crossing_noise(mesh, high, kThreshold, 1.5));
+  ASSERT_GT(a, 0.0);
+  EXPECT_NEAR(b / a, 2.0, 0.25);
+  EXPECT_GT(b, estimate_crossing_noise(mesh, high, kThreshold, 1.5));
+  for (const int threads : {2, 3, 8}) EXPECT_EQ(edge_noise(high, threads), b) << threads;
+}

@@ -1,4 +1,6 @@
 #include <cmath>
+#include <random>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -75,4 +77,54 @@ TEST(Volume, rejects_unusable_grids_with_a_clear_message) {
   }
   EXPECT_THROW(Volume({4, 4, 4}, std::vector<float>(64, 1.f), Vec3::Ones(), Vec3::Zero(), Eigen::Matrix3d::Zero()),
                gdm::InvalidVolume);
+}
+
+namespace {
+
+// A 40^3 volume: a linear ramp (no residual about the 6-neighbour mean) plus
+// Gaussian noise of the given sigma, from a fixed seed.
+Volume ramp_with_noise(double sigma, unsigned seed) {
+  const Index3 dims{40, 40, 40};
+  std::vector<float> values(40 * 40 * 40);
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> noise(0.0, sigma > 0.0 ? sigma : 1.0);
+  std::size_t n = 0;
+  for (int k = 0; k < 40; ++k)
+    for (int j = 0; j < 40; ++j)
+      for (int i = 0; i < 40; ++i)
+        values[n++] = static_cast<float>(100.0 + 2.0 * i - 1.5 * j + 0.5 * k + (sigma > 0.0 ? noise(rng) : 0.0));
+  return Volume(dims, std::move(values), Vec3(0.5, 0.5, 2.0));
+}
+
+}  // namespace
+
+TEST(VoxelNoise, reads_the_sigma_of_gaussian_noise_over_a_trend) {
+  for (const double sigma : {3.0, 7.5, 15.0}) {
+    const double estimate = gdm::estimate_voxel_noise(ramp_with_noise(sigma, 11u));
+    EXPECT_NEAR(estimate / sigma, 1.0, 0.06) << "sigma " << sigma;
+  }
+}
+
+TEST(VoxelNoise, is_zero_without_noise) {
+  EXPECT_NEAR(gdm::estimate_voxel_noise(ramp_with_noise(0.0, 1u)), 0.0, 1e-4);
+  EXPECT_EQ(gdm::estimate_voxel_noise(Volume({2, 5, 5}, std::vector<float>(50, 1.0f))), 0.0);
+}
+
+TEST(VoxelNoise, a_box_reads_the_same_voxels_in_any_crop_that_holds_it) {
+  // The noise over a physical box is a property of the voxels in it: a crop
+  // of the volume around the box (origin moved with it) gives the same value.
+  const Volume whole = ramp_with_noise(6.0, 3u);
+  const Index3 crop_dims{30, 28, 26};
+  const int di = 4, dj = 7, dk = 9;
+  std::vector<float> values;
+  for (int k = 0; k < crop_dims[2]; ++k)
+    for (int j = 0; j < crop_dims[1]; ++j)
+      for (int i = 0; i < crop_dims[0]; ++i) values.push_back(whole.at(i + di, j + dj, k + dk));
+  const Volume crop(crop_dims, std::move(values), whole.spacing(), whole.to_physical(Vec3(di, dj, dk)));
+  const Vec3 lo = whole.to_physical(Vec3(8.3, 10.6, 12.2)), hi = whole.to_physical(Vec3(25.4, 29.1, 30.7));
+  const double a = gdm::estimate_voxel_noise(whole, lo, hi);
+  EXPECT_NEAR(a / 6.0, 1.0, 0.1);
+  EXPECT_EQ(gdm::estimate_voxel_noise(crop, lo, hi), a);
+  // A box outside the grid holds no voxel.
+  EXPECT_EQ(gdm::estimate_voxel_noise(whole, Vec3::Constant(-50.0), Vec3::Constant(-40.0)), 0.0);
 }

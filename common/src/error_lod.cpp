@@ -144,6 +144,32 @@ double estimate_crossing_noise(const Mesh& mesh, const Volume& volume, double th
   return *mid / 0.6745 * std::sqrt(7.0 / 6.0);
 }
 
+double estimate_edge_noise(const Mesh& mesh, const Volume& volume, double voxel_noise, int threads) {
+  if (!(voxel_noise > 0.0)) return 0.0;
+  const double v = volume.voxel_size();
+  std::vector<double> slope(mesh.n_faces(), std::numeric_limits<double>::quiet_NaN());
+  parallel_for(mesh.n_faces(), resolve_thread_count(threads), [&](std::size_t i) {
+    const Mesh::FaceHandle f(static_cast<int>(i));
+    if (mesh.has_face_status() && mesh.status(f).deleted()) return;
+    auto it = mesh.cfv_iter(f);
+    const Vec3 a = pos(mesh, *it), b = pos(mesh, *++it), c = pos(mesh, *++it);
+    const Vec3 cross = (b - a).cross(c - a);
+    if (!(cross.norm() > 0.0)) return;
+    const Vec3 n = cross.normalized(), m = (a + b + c) / 3.0;
+    double above = 0.0, below = 0.0;
+    if (volume.sample_inside(m + 0.5 * v * n, above) && volume.sample_inside(m - 0.5 * v * n, below))
+      slope[i] = std::abs(above - below) / v;
+  });
+  slope.erase(std::remove_if(slope.begin(), slope.end(), [](double x) { return std::isnan(x); }), slope.end());
+  if (slope.empty()) return 0.0;
+  const auto mid = slope.begin() + static_cast<long>(slope.size() / 2);
+  std::nth_element(slope.begin(), mid, slope.end());
+  // A trilinear sample is a weighted mean of eight voxels: over a cell, the
+  // weights' squares sum to (2/3)^3 on average, so its noise is
+  // sqrt(8/27) of one voxel's.
+  return *mid > 0.0 ? std::sqrt(8.0 / 27.0) * voxel_noise / *mid : 0.0;
+}
+
 std::size_t split_deviating_faces(Mesh& mesh, const Volume& volume, double threshold, double tolerance_mm,
                                   double min_edge_mm, int generation, double noise_mm) {
   const double search = std::max(3.0 * tolerance_mm, 1.5 * volume.voxel_size());

@@ -400,7 +400,7 @@ FitResult fit_to_threshold(Mesh& mesh, const Volume& volume, double threshold, c
       });
       for (std::size_t i = 0; i < height.size(); ++i) {
         if (std::isnan(height[i])) continue;
-        const double h2 = height[i] * height[i], w = s2 / (s2 + h2);
+        const double h2 = height[i] * height[i], w = o.quadric_step * s2 / (s2 + h2);
         smoothed[i] = (1.0 - w) * smoothed[i] - w * height[i];
       }
     }

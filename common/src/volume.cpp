@@ -1,6 +1,9 @@
 #include "gdm/volume.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
+#include <vector>
 #include <sstream>
 
 #include <Eigen/LU>
@@ -152,6 +155,47 @@ Volume reduce_by_two(const Volume& volume, bool keep_minimum) {
   Volume coarse(dims, std::move(values), spacing, volume.to_physical(shift), volume.direction());
   coarse.set_outside_value(volume.outside_value());
   return coarse;
+}
+
+double estimate_voxel_noise(const Volume& volume) {
+  Vec3 lo, hi;
+  volume.physical_bounds(lo, hi);
+  return estimate_voxel_noise(volume, lo, hi);
+}
+
+double estimate_voxel_noise(const Volume& volume, const Vec3& lo, const Vec3& hi) {
+  const auto& d = volume.dims();
+  // The box's voxels with all six neighbours in the grid: the index range
+  // of its eight corners, rounded outward.
+  Vec3 qlo = Vec3::Constant(std::numeric_limits<double>::infinity()), qhi = -qlo;
+  for (int c = 0; c < 8; ++c) {
+    const Vec3 q = volume.to_continuous_index(Vec3(c & 1 ? hi.x() : lo.x(), c & 2 ? hi.y() : lo.y(), c & 4 ? hi.z() : lo.z()));
+    if (!q.allFinite()) return 0.0;
+    qlo = qlo.cwiseMin(q);
+    qhi = qhi.cwiseMax(q);
+  }
+  int first[3], last[3];
+  for (int a = 0; a < 3; ++a) {
+    first[a] = static_cast<int>(std::max(1.0, std::floor(std::max(qlo[a], -1.0))));
+    last[a] = static_cast<int>(std::min(d[a] - 2.0, std::ceil(std::min(qhi[a], static_cast<double>(d[a])))));
+    if (first[a] > last[a]) return 0.0;
+  }
+  const double inner = static_cast<double>(last[0] - first[0] + 1) * (last[1] - first[1] + 1) * (last[2] - first[2] + 1);
+  const int stride = std::max(1, static_cast<int>(std::ceil(std::cbrt(inner / 2.0e6))));
+  std::vector<float> r;
+  r.reserve(static_cast<std::size_t>(inner / (static_cast<double>(stride) * stride * stride)) + 1);
+  for (int k = first[2]; k <= last[2]; k += stride)
+    for (int j = first[1]; j <= last[1]; j += stride)
+      for (int i = first[0]; i <= last[0]; i += stride) {
+        const double mean = (static_cast<double>(volume.at(i - 1, j, k)) + volume.at(i + 1, j, k) +
+                             volume.at(i, j - 1, k) + volume.at(i, j + 1, k) + volume.at(i, j, k - 1) +
+                             volume.at(i, j, k + 1)) / 6.0;
+        r.push_back(static_cast<float>(std::abs(volume.at(i, j, k) - mean)));
+      }
+  if (r.empty()) return 0.0;
+  const auto mid = r.begin() + static_cast<long>(r.size() / 2);
+  std::nth_element(r.begin(), mid, r.end());
+  return *mid / 0.6745 / std::sqrt(7.0 / 6.0);
 }
 
 }  // namespace gdm

@@ -35,6 +35,9 @@ struct FitOptions {
                                 // drawn toward the quadric fitted over its 2-ring with weight
                                 // s^2 / (s^2 + h^2), s = regularization x noise, h the vertex's height
                                 // above that quadric; 0: off
+  double quadric_step = 1.0;    // share of that pull a vertex goes per pass, in (0, 1]: every vertex
+                                // moves at once, so a strong pull (most vertices within s) needs a
+                                // damped step or the ring's finest mode is swapped, not smoothed
   std::vector<double> vertex_max_distance;  // mm, by vertex index: where given (and > 0) it replaces
                                             // max_distance for that vertex; empty: max_distance for all
   bool prevent_self_intersection = true;  // every move checked by the IntersectionGuard
