@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <vector>
 #include <sstream>
+#include <vector>
 
 #include <Eigen/LU>
 
