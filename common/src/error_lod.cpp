@@ -14,6 +14,16 @@ namespace gdm {
 
 namespace {
 
+// The median of the values that are not NaN (x reordered, NaNs dropped); 0
+// when there is none.
+double median_of_numbers(std::vector<double>& x) {
+  x.erase(std::remove_if(x.begin(), x.end(), [](double t) { return std::isnan(t); }), x.end());
+  if (x.empty()) return 0.0;
+  const auto mid = x.begin() + static_cast<long>(x.size() / 2);
+  std::nth_element(x.begin(), mid, x.end());
+  return *mid;
+}
+
 Vec3 pos(const Mesh& mesh, Mesh::VertexHandle v) { return to_eigen(mesh.point(v)); }
 
 // How far the threshold surface leaves the triangle abc, from seven points
@@ -135,13 +145,9 @@ double estimate_crossing_noise(const Mesh& mesh, const Volume& volume, double th
     if (!std::isfinite(triangle_deviation(a, b, c, volume, threshold, search_mm, 0.0, res).mean)) return;
     for (std::size_t k = 0; k < kPoints; ++k) r[kPoints * i + k] = std::abs(res[k]);
   });
-  r.erase(std::remove_if(r.begin(), r.end(), [](double x) { return std::isnan(x); }), r.end());
-  if (r.empty()) return 0.0;
-  const auto mid = r.begin() + static_cast<long>(r.size() / 2);
-  std::nth_element(r.begin(), mid, r.end());
   // Median absolute residual of a normal law is 0.6745 sigma; a residual
   // from the mean of seven has 6/7 of one distance's variance.
-  return *mid / 0.6745 * std::sqrt(7.0 / 6.0);
+  return median_of_numbers(r) / 0.6745 * std::sqrt(7.0 / 6.0);
 }
 
 double estimate_edge_noise(const Mesh& mesh, const Volume& volume, double voxel_noise, int threads) {
@@ -160,14 +166,11 @@ double estimate_edge_noise(const Mesh& mesh, const Volume& volume, double voxel_
     if (volume.sample_inside(m + 0.5 * v * n, above) && volume.sample_inside(m - 0.5 * v * n, below))
       slope[i] = std::abs(above - below) / v;
   });
-  slope.erase(std::remove_if(slope.begin(), slope.end(), [](double x) { return std::isnan(x); }), slope.end());
-  if (slope.empty()) return 0.0;
-  const auto mid = slope.begin() + static_cast<long>(slope.size() / 2);
-  std::nth_element(slope.begin(), mid, slope.end());
+  const double median_slope = median_of_numbers(slope);
   // A trilinear sample is a weighted mean of eight voxels: over a cell, the
   // weights' squares sum to (2/3)^3 on average, so its noise is
   // sqrt(8/27) of one voxel's.
-  return *mid > 0.0 ? std::sqrt(8.0 / 27.0) * voxel_noise / *mid : 0.0;
+  return median_slope > 0.0 ? std::sqrt(8.0 / 27.0) * voxel_noise / median_slope : 0.0;
 }
 
 std::size_t split_deviating_faces(Mesh& mesh, const Volume& volume, double threshold, double tolerance_mm,
