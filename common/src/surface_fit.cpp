@@ -469,7 +469,7 @@ FitResult fit_to_threshold(Mesh& mesh, const Volume& volume, double threshold, c
       }
       ++rejected;
     };
-    if (!guard || movers.size() < kMovesByCubes) {
+    if (!guard || movers.size() < kFitMovesByCubes) {
       for (int i : movers) try_move(i, nullptr, result.moves, result.rejected);
     } else {
       //  Many moves: by cubes of space (space_blocks.h), the cubes of a

@@ -61,7 +61,7 @@ struct FitResult {
 // one at a time (moves under a hundredth of a voxel skipped), each checked
 // by the IntersectionGuard (a refused move is retried at half and a quarter
 // length) and kept inside the grid: in vertex order, or, in a pass of at
-// least kMovesByCubes moves, by cubes of space (space_blocks.h), the same
+// least kFitMovesByCubes moves, by cubes of space (space_blocks.h), the same
 // for any thread count either way. At the fixed point flat faces sit across
 // a curved surface instead of inside it (no chord bias) and the curvature
 // term's inward pull is gone.
