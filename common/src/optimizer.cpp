@@ -6,7 +6,10 @@
 namespace gdm {
 
 Vec3 cost_gradient(const CostFunction& cost, const VertexNeighbourhood& n, double h_mm) {
-  const double c0 = cost(n, n.position);
+  return cost_gradient(cost, n, h_mm, cost(n, n.position));
+}
+
+Vec3 cost_gradient(const CostFunction& cost, const VertexNeighbourhood& n, double h_mm, double c0) {
   Vec3 g = Vec3::Zero();
   for (int axis = 0; axis < 3; ++axis) {
     Vec3 d = Vec3::Zero();
@@ -36,7 +39,8 @@ StepResult steepest_descent_step(const CostFunction& cost, const VertexNeighbour
   step = std::clamp(step, options.min_step, options.max_step);
   result.next_step = options.min_step;
 
-  const Vec3 g = cost_gradient(cost, n, options.gradient_step * voxel_size);
+  // The cost here is known: it was evaluated twice per step (issue 17).
+  const Vec3 g = cost_gradient(cost, n, options.gradient_step * voxel_size, result.cost);
   const double norm = g.norm();
   if (!(norm > 0.0) || !std::isfinite(norm)) return result;
   const Vec3 direction = -g / norm;

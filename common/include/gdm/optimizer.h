@@ -22,6 +22,8 @@ struct StepResult {
 // The cost gradient by central differences along the physical axes. Where one
 // side is infinite (outside the volume) a one-sided difference is used.
 Vec3 cost_gradient(const CostFunction& cost, const VertexNeighbourhood& n, double h_mm);
+// The same with the cost at n.position already known (`cost_here`).
+Vec3 cost_gradient(const CostFunction& cost, const VertexNeighbourhood& n, double h_mm, double cost_here);
 
 // One steepest-descent step from n.position: try `step` voxels against the
 // gradient, halve up to max_step_reductions times (never below min_step), and
