@@ -172,32 +172,15 @@ class CreaseMaker {
   std::vector<Vec3> seed_normals(const std::vector<FaceSample>& faces) const {
     // Each face's support (the area of the faces within the spread of its
     // normal) once; a seed is the best supported face apart from the seeds.
-    // The normals and areas side by side (the pairs' loop was most of
-    // planes_at(): quadratic in the 20 to 60 faces of two rings, issue 17);
-    // each support is summed in the same order as face by face, so the
-    // seeds are the same.
-    thread_local std::vector<double> support, nx, ny, nz, area;
-    const std::size_t n = faces.size();
-    support.assign(n, 0.0);
-    nx.resize(n);
-    ny.resize(n);
-    nz.resize(n);
-    area.resize(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      nx[i] = faces[i].normal[0];
-      ny[i] = faces[i].normal[1];
-      nz[i] = faces[i].normal[2];
-      area[i] = faces[i].area;
-    }
-    for (std::size_t i = 0; i < n; ++i) {
-      const double x = nx[i], y = ny[i], z = nz[i], a = area[i];
-      double sum = support[i] + a;
-      for (std::size_t j = i + 1; j < n; ++j)
-        if (x * nx[j] + y * ny[j] + z * nz[j] >= cos_spread_) {  // the order of Vec3::dot
-          sum += area[j];
-          support[j] += a;
+    thread_local std::vector<double> support;
+    support.assign(faces.size(), 0.0);
+    for (std::size_t i = 0; i < faces.size(); ++i) {
+      support[i] += faces[i].area;
+      for (std::size_t j = i + 1; j < faces.size(); ++j)
+        if (faces[i].normal.dot(faces[j].normal) >= cos_spread_) {
+          support[i] += faces[j].area;
+          support[j] += faces[i].area;
         }
-      support[i] = sum;
     }
     std::vector<Vec3> seeds;
     for (int k = 0; k < 3; ++k) {
