@@ -7,6 +7,7 @@
 #include <limits>
 #include <memory>
 #include <sstream>
+#include <type_traits>
 #include <vector>
 
 #include "gdm/cavities.h"
@@ -304,6 +305,7 @@ class Deformer {
   void start_stage(int cycle);
   std::size_t count_border_vertices() const;
   void finish(int cycle, DeformResult& result);
+  void release_cycle_state();
   bool held_by_gate(Mesh::VertexHandle v) const;
   std::size_t coarsen_shrunk_faces();
   bool object_ahead(Mesh::FaceHandle f, std::vector<Vec3>* free_points = nullptr) const;
@@ -1184,6 +1186,37 @@ std::size_t Deformer::count_border_vertices() const {
   return n;
 }
 
+// What only the deformation cycles read: the guard and the per-vertex and
+// per-face state, freed before the fit and what follows build their own
+// (issue 17's peak memory: on the T1 head at the defaults the peak came at
+// the end, with the cycles' guard and state still held beside the fit's,
+// the creases' and the quality pass's; after finish() sorts the mesh, no
+// index into them would be valid anyway).
+void Deformer::release_cycle_state() {
+  if (guard_) rejected_earlier_stages_ += guard_->statistics().rejected_moves;
+  guard_.reset();
+  const auto release = [](auto& v) { std::decay_t<decltype(v)>().swap(v); };
+  release(checkers_);
+  release(step_);
+  release(cost_value_);
+  release(active_);
+  release(settled_);
+  release(refused_);
+  release(retry_at_);
+  release(refusal_);
+  release(anchor_);
+  release(stage_start_);
+  release(last_change_);
+  release(local_area_);
+  release(round_start_);
+  release(mouth_verdict_);
+  release(floor_verdict_);
+  release(face_normal_);
+  release(touched_);
+  release(face_flags_);
+  release(edge_dirty_);
+}
+
 // Beyond the paper: the final fit onto the threshold crossing, and the
 // error-driven level of detail (collapse where flat, split where the surface
 // leaves the faces, fit again).
@@ -1751,6 +1784,7 @@ DeformResult Deformer::run(int first_cycle) {
   }
   clock.add_to(stage_clock());
   if (result.reason == StopReason::converged || result.reason == StopReason::max_cycles) {
+    release_cycle_state();
     finish(cycle, result);
     clock = Stopwatch();
     if (&volume_ != &input_) result.bridge_vertices = relax_bridges();
@@ -1763,7 +1797,7 @@ DeformResult Deformer::run(int first_cycle) {
   clock.add_to(result.seconds.float_snap);
   result.cycles = cycle;
   result.global_refinements = report_.stage;
-  result.rejected_moves = rejected_earlier_stages_ + guard_->statistics().rejected_moves;
+  result.rejected_moves = rejected_earlier_stages_ + (guard_ ? guard_->statistics().rejected_moves : 0);
   result.flips = flips_;
   result.channel_rounds = local_rounds_;
   result.border_vertices = count_border_vertices();
