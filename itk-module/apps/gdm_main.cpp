@@ -15,6 +15,8 @@
 #include <new>
 #include <sstream>
 
+#include <sys/resource.h>
+
 #include "cli_errors.h"
 #include "cli_options.h"
 #include "default_input.h"
@@ -120,6 +122,14 @@ void record_model(const gdm::PipelineResult& r, RunRecord& record) {
   record_extent(r.mesh, record);
 }
 
+// The process's largest resident set so far, MiB (Linux: ru_maxrss in KiB);
+// 0 when the system does not say.
+double peak_memory_mb() {
+  struct rusage usage {};
+  if (getrusage(RUSAGE_SELF, &usage) != 0) return 0.0;
+  return static_cast<double>(usage.ru_maxrss) / 1024.0;
+}
+
 int run(const Options& options_in, RunRecord& record) {
   const auto start = std::chrono::steady_clock::now();
   Options options = options_in;
@@ -171,6 +181,7 @@ int run(const Options& options_in, RunRecord& record) {
   printer.finish();
   record_model(result, record);
   record.total_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  record.peak_memory_mb = peak_memory_mb();
 
   if (!result.failure.empty()) {
     std::string failure = result.failure;
@@ -193,6 +204,7 @@ int run(const Options& options_in, RunRecord& record) {
   record.status = "ok";
   record.exit_code = exit_ok;
   record.total_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  record.peak_memory_mb = peak_memory_mb();
   if (!options.report.empty()) write_text_file(report_json(record, options), options.report);
   // Until the mesh is written, the report goes with it: on a failed write, and
   // on SIGINT, SIGTERM or SIGHUP (gdm::RemoveOnInterrupt).

@@ -93,7 +93,8 @@ std::string summary_text(const RunRecord& r) {
     << "  volume " << fixed(m.volume, 1) << " mm^3 = " << fixed(m.volume / 1000.0, 3) << " ml, area "
     << fixed(m.area, 1) << " mm^2\n"
     << "  extent " << vec(r.low, 2) << " to " << vec(r.high, 2) << " mm\n"
-    << "  time " << fixed(r.model_seconds, 2) << " s model, " << fixed(r.total_seconds, 2) << " s total\n";
+    << "  time " << fixed(r.model_seconds, 2) << " s model, " << fixed(r.total_seconds, 2) << " s total; peak memory "
+    << fixed(r.peak_memory_mb, 0) << " MB\n";
   const gdm::StageSeconds& t = r.model.seconds;
   s << "  stages: growth " << fixed(t.growth, 2) << " s, global refinement " << fixed(t.refinement, 2)
     << " s, refined stages " << fixed(t.refined_stages, 2) << " s, fit " << fixed(t.fit, 2) << " s, error lod "
@@ -281,6 +282,7 @@ std::string report_json(const RunRecord& r, const Options& options) {
       .add("mesh", mesh.str())
       .add("contacts", contacts.str())
       .add("total_seconds", json_number(r.total_seconds))
+      .add("peak_memory_mb", json_number(r.peak_memory_mb))
       .add("parameters", parameters_json(options, 2));
   return root.str() + "\n";
 }

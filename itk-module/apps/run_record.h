@@ -49,6 +49,7 @@ struct RunRecord {
   int max_generation = 0;           // the youngest vertex's generation
   std::string output;               // mesh file written ("" when none)
   double total_seconds = 0.0;
+  double peak_memory_mb = 0.0;      // the process's largest resident set so far (getrusage), MiB
   int exit_code = 0;
   std::string status;               // "ok" or the error
 };

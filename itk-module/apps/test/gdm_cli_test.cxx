@@ -623,6 +623,21 @@ TEST(Output, ProgressLinesPerCycle) {
   EXPECT_GT(moved_total, 0u);
 }
 
+// The report and the summary give the run's peak memory (the process's
+// largest resident set): more than the volume it read, in MB.
+TEST(Output, ReportsPeakMemory) {
+  const fs::path dir = work_dir();
+  const GdmRun r = run_gdm(dir, {"--refinements", "0", "-o", "m.ply", "--report", "m.json"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const double peak = json_value(slurp(dir / "m.json"), "peak_memory_mb");
+  // The phantom's floats alone are 64^3 x 4 bytes = 1 MB.
+  EXPECT_GT(peak, 1.0);
+  EXPECT_LT(peak, 1.0e6);
+  const auto at = r.out.find("peak memory ");
+  ASSERT_NE(at, std::string::npos) << r.out;
+  EXPECT_NEAR(std::strtod(r.out.c_str() + at + 12, nullptr), peak, 1.0) << r.out;
+}
+
 // The error-driven level of detail (--lod-tolerance): a closed manifold mesh
 // with a different face count, the work reported; bad values of the new
 // options are bad usage naming the option.
