@@ -130,6 +130,12 @@ double peak_memory_mb() {
   return static_cast<double>(usage.ru_maxrss) / 1024.0;
 }
 
+// The run's time and peak memory so far, into the record.
+void record_cost(std::chrono::steady_clock::time_point start, RunRecord& record) {
+  record.total_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  record.peak_memory_mb = peak_memory_mb();
+}
+
 int run(const Options& options_in, RunRecord& record) {
   const auto start = std::chrono::steady_clock::now();
   Options options = options_in;
@@ -180,8 +186,7 @@ int run(const Options& options_in, RunRecord& record) {
   }
   printer.finish();
   record_model(result, record);
-  record.total_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  record.peak_memory_mb = peak_memory_mb();
+  record_cost(start, record);
 
   if (!result.failure.empty()) {
     std::string failure = result.failure;
@@ -203,8 +208,7 @@ int run(const Options& options_in, RunRecord& record) {
   record.output = options.output;
   record.status = "ok";
   record.exit_code = exit_ok;
-  record.total_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  record.peak_memory_mb = peak_memory_mb();
+  record_cost(start, record);
   if (!options.report.empty()) write_text_file(report_json(record, options), options.report);
   // Until the mesh is written, the report goes with it: on a failed write, and
   // on SIGINT, SIGTERM or SIGHUP (gdm::RemoveOnInterrupt).

@@ -25,10 +25,10 @@ constexpr std::size_t kMovesByCubes = 4096;
 // The same for the sub-voxel fit's passes (surface_fit.h). Its moves are
 // small and mostly accepted: an accepted move's answer does not depend on
 // the order, so by cubes the models change only where the guard refuses
-// some moves. Measured on gdm_core_benchmark with 2 threads (interleaved
-// runs, medians of 5): the fit 114-135 -> 101-105 ms on the cube, 131-139
-// -> 120-122 ms on the branching (its passes move 2,700 down to 60
-// vertices); no change on one thread (issue 17).
+// some moves. Measured on gdm_core_benchmark with 2 threads (two series of
+// runs alternating with 4096, README "The fit's moves on the threads"): the
+// fit 5 to 10 % faster on the cube and the branching (their passes move
+// 2,700 down to 60 vertices); no change on one thread (issue 17).
 constexpr std::size_t kFitMovesByCubes = 256;
 
 struct CubeColouring {
