@@ -10,6 +10,7 @@
 
 #include "gdm/distance_transform.h"
 #include "gdm/passage.h"
+#include "gdm/voxel_flood.h"
 #include "gdm/voxel_topology.h"
 
 namespace gdm {
@@ -46,6 +47,17 @@ struct Grid {
   }
   bool on_border(const Index3& v) const {
     return v[0] == 0 || v[1] == 0 || v[2] == 0 || v[0] == n[0] - 1 || v[1] == n[1] - 1 || v[2] == n[2] - 1;
+  }
+  // Calls f(index, voxel) for every voxel in index order: the loops over
+  // the whole box need each voxel's place, and voxel() takes three integer
+  // divisions (issue 17).
+  template <typename F>
+  void for_each_voxel(F&& f) const {
+    std::size_t c = 0;
+    Index3 v;
+    for (v[2] = 0; v[2] < n[2]; ++v[2])
+      for (v[1] = 0; v[1] < n[1]; ++v[1])
+        for (v[0] = 0; v[0] < n[0]; ++v[0], ++c) f(c, static_cast<const Index3&>(v));
   }
   // Marks every voxel 6-connected to the marked ones through `passable`
   // (marks only passable voxels); a stack, no recursion.
@@ -197,14 +209,13 @@ bool CavityFinder::object_of_the_seed(std::vector<char>& object, Index3& lo, Ind
     stack.push_back(i);
   }
   if (stack.empty()) return false;
-  full_.flood(object, stack, [&](std::size_t c) { return !is_background(c); });
+  flood_by_runs(full_.n, false, object, stack, [&](std::size_t c) { return !is_background(c); });
   lo = full_.n;
   hi = {-1, -1, -1};
-  for (std::size_t c = 0; c < object.size(); ++c) {
-    if (!object[c]) continue;
-    const Index3 v = full_.voxel(c);
+  full_.for_each_voxel([&](std::size_t c, const Index3& v) {
+    if (!object[c]) return;
     for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], v[a]), hi[a] = std::max(hi[a], v[a]);
-  }
+  });
   return true;
 }
 
@@ -268,12 +279,12 @@ void CavityFinder::make_box(const std::vector<char>& object, const Index3& lo, c
 std::vector<char> CavityFinder::reached_by_paths(const std::vector<char>& blocked) const {
   std::vector<char> reached(box_.count(), 0);
   std::vector<std::size_t> stack;
-  for (std::size_t c = 0; c < box_.count(); ++c) {
-    if (blocked[c] || !(kind_[c] == kOutside || box_.on_border(box_.voxel(c)))) continue;
+  box_.for_each_voxel([&](std::size_t c, const Index3& v) {
+    if (blocked[c] || !(kind_[c] == kOutside || box_.on_border(v))) return;
     reached[c] = 1;
     stack.push_back(c);
-  }
-  box_.flood(reached, stack, [&](std::size_t c) { return !blocked[c]; });
+  });
+  flood_by_runs(box_.n, false, reached, stack, [&](std::size_t c) { return !blocked[c]; });
   return reached;
 }
 
@@ -285,12 +296,12 @@ std::vector<char> CavityFinder::reached_by_balls(const std::vector<float>& d2) c
   const double r2 = radius_ * radius_;
   std::vector<char> component(box_.count(), 0);
   std::vector<std::size_t> stack;
-  for (std::size_t c = 0; c < box_.count(); ++c) {
-    if (d2[c] < r2 || !(kind_[c] == kOutside || box_.on_border(box_.voxel(c)))) continue;
+  box_.for_each_voxel([&](std::size_t c, const Index3& v) {
+    if (d2[c] < r2 || !(kind_[c] == kOutside || box_.on_border(v))) return;
     component[c] = 1;
     stack.push_back(c);
-  }
-  box_.flood(component, stack, [&](std::size_t c) { return d2[c] >= r2; });
+  });
+  flood_by_runs(box_.n, false, component, stack, [&](std::size_t c) { return d2[c] >= r2; });
   const std::vector<double> dilated = squared_distance_to(component, box_.n, volume_.spacing(), o_.threads);
   const double r2_dilate = r2 * (1.0 + 1e-9);
   std::vector<char> reached(box_.count(), 0);
@@ -422,10 +433,10 @@ void CavityFinder::cap_handles(CavityFill& fill) {
   const std::vector<float> d2 = distance_to_solid();
   enum : char { kFixed = 0, kFree = 1, kQueued = 2, kReached = 3 };
   std::vector<char> state(box_.count(), kFixed);
-  for (std::size_t c = 0; c < box_.count(); ++c) {
-    if (kind_[c] == kObject || fill_[c]) continue;
-    state[c] = (kind_[c] == kOutside || box_.on_border(box_.voxel(c))) ? kReached : kFree;
-  }
+  box_.for_each_voxel([&](std::size_t c, const Index3& v) {
+    if (kind_[c] == kObject || fill_[c]) return;
+    state[c] = (kind_[c] == kOutside || box_.on_border(v)) ? kReached : kFree;
+  });
   // Largest distance first. Distances between voxel centres tie in plateaus
   // (at a hole's waist, for a voxel or two either side); ties broken by the
   // index would let the front from one side take the whole plateau and put
@@ -448,8 +459,9 @@ void CavityFinder::cap_handles(CavityFill& fill) {
   const std::ptrdiff_t sx = 1, sy = n[0], sz = static_cast<std::ptrdiff_t>(n[0]) * n[1];
   std::array<std::ptrdiff_t, 27> offset{};
   for (int s = 0; s < 27; ++s) offset[static_cast<std::size_t>(s)] = (s % 3 - 1) * sx + ((s / 3) % 3 - 1) * sy + (s / 9 - 1) * sz;
-  const auto interior = [&](std::size_t c) { return !box_.on_border(box_.voxel(c)); };
-  // Queues the free 26-neighbours of c (c interior): their simplicity may have changed.
+  // Every free voxel is interior (those on the box's border start reached):
+  // its 26 neighbours are in the box, a fixed index offset away.
+  // Queues the free 26-neighbours of c: their simplicity may have changed.
   const auto requeue = [&](std::size_t c) {
     for (int s = 0; s < 27; ++s) {
       const std::size_t m = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(c) + offset[static_cast<std::size_t>(s)]);
@@ -460,16 +472,11 @@ void CavityFinder::cap_handles(CavityFill& fill) {
   };
   for (std::size_t c = 0; c < box_.count(); ++c) {
     if (state[c] != kFree) continue;
-    const Index3 v = box_.voxel(c);
-    for (int a = 0; a < 3 && state[c] == kFree; ++a)
-      for (const int step : {-1, 1}) {
-        Index3 u = v;
-        u[a] += step;
-        if (state[box_.index(u[0], u[1], u[2])] == kReached) {  // c is interior: u is in the box
-          state[c] = kQueued;
-          queue.push({key(c), c});
-          break;
-        }
+    for (const std::ptrdiff_t step : {-sx, sx, -sy, sy, -sz, sz})
+      if (state[static_cast<std::size_t>(static_cast<std::ptrdiff_t>(c) + step)] == kReached) {
+        state[c] = kQueued;
+        queue.push({key(c), c});
+        break;
       }
   }
   const Neighbourhood hood;
@@ -483,7 +490,7 @@ void CavityFinder::cap_handles(CavityFill& fill) {
         reached |= 1u << s;
     if (!hood.simple(reached)) continue;
     state[c] = kReached;
-    if (interior(c)) requeue(c);
+    requeue(c);
   }
 
   // The membranes: background left free, in 26-connected groups.

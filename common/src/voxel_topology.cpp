@@ -3,6 +3,8 @@
 #include <array>
 #include <cstddef>
 
+#include "gdm/voxel_flood.h"
+
 namespace gdm {
 
 namespace {
@@ -47,43 +49,6 @@ std::size_t index(const Index3& n, int i, int j, int k) {
          static_cast<std::size_t>(n[0]) * (static_cast<std::size_t>(j) + static_cast<std::size_t>(n[1]) * static_cast<std::size_t>(k));
 }
 
-// Floods from the voxels on `stack` through the voxels for which `member`
-// holds, 26- or 6-connected, marking `seen`. A neighbour is a fixed index
-// offset away; only voxels on the grid's border check its bounds.
-template <typename Member>
-void flood(const Index3& n, bool connect26, std::vector<char>& seen, std::vector<std::size_t>& stack, Member&& member) {
-  const std::size_t nx = static_cast<std::size_t>(n[0]), ny = static_cast<std::size_t>(n[1]);
-  const std::ptrdiff_t sy = static_cast<std::ptrdiff_t>(nx), sz = static_cast<std::ptrdiff_t>(nx * ny);
-  // The neighbours: their steps, and the index offset of each.
-  std::array<std::array<int, 3>, 26> step{};
-  std::array<std::ptrdiff_t, 26> offset{};
-  std::size_t neighbours = 0;
-  for (int dz = -1; dz <= 1; ++dz)
-    for (int dy = -1; dy <= 1; ++dy)
-      for (int dx = -1; dx <= 1; ++dx) {
-        const int l1 = (dx != 0) + (dy != 0) + (dz != 0);
-        if (l1 == 0 || (!connect26 && l1 > 1)) continue;
-        step[neighbours] = {dx, dy, dz};
-        offset[neighbours++] = dx + dy * sy + dz * sz;
-      }
-  while (!stack.empty()) {
-    const std::size_t c = stack.back();
-    stack.pop_back();
-    const int i = static_cast<int>(c % nx), j = static_cast<int>((c / nx) % ny), k = static_cast<int>(c / (nx * ny));
-    const bool interior = i > 0 && j > 0 && k > 0 && i < n[0] - 1 && j < n[1] - 1 && k < n[2] - 1;
-    for (std::size_t s = 0; s < neighbours; ++s) {
-      if (!interior) {
-        const int u = i + step[s][0], v = j + step[s][1], w = k + step[s][2];
-        if (u < 0 || v < 0 || w < 0 || u >= n[0] || v >= n[1] || w >= n[2]) continue;
-      }
-      const std::size_t m = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(c) + offset[s]);
-      if (seen[m] || !member(m)) continue;
-      seen[m] = 1;
-      stack.push_back(m);
-    }
-  }
-}
-
 }  // namespace
 
 std::int64_t euler_characteristic(const std::vector<char>& set, const Index3& n) {
@@ -118,16 +83,18 @@ VoxelTopology voxel_topology(const std::vector<char>& set, const Index3& n) {
   t.euler = euler_characteristic(set, n);
   const std::size_t count = set.size();
   std::vector<char> seen(count, 0);
-  std::vector<std::size_t> stack;
+  std::vector<std::size_t> seeds;
+  const auto in_set = [&](std::size_t m) { return set[m] != 0; };
+  const auto free = [&](std::size_t m) { return set[m] == 0; };
   for (std::size_t c = 0; c < count; ++c) {
     if (!set[c] || seen[c]) continue;
     ++t.pieces;
     seen[c] = 1;
-    stack.assign(1, c);
-    flood(n, true, seen, stack, [&](std::size_t m) { return set[m] != 0; });
+    seeds.assign(1, c);
+    flood_by_runs(n, true, seen, seeds, in_set);
   }
   // The complement reached from the border, then each pocket left.
-  const auto free = [&](std::size_t m) { return set[m] == 0; };
+  seeds.clear();
   for (int k = 0; k < n[2]; ++k)
     for (int j = 0; j < n[1]; ++j)
       for (int i = 0; i < n[0]; ++i) {
@@ -139,15 +106,15 @@ VoxelTopology voxel_topology(const std::vector<char>& set, const Index3& n) {
         const std::size_t c = index(n, i, j, k);
         if (set[c] || seen[c]) continue;
         seen[c] = 1;
-        stack.push_back(c);
+        seeds.push_back(c);
       }
-  flood(n, false, seen, stack, free);
+  flood_by_runs(n, false, seen, seeds, free);
   for (std::size_t c = 0; c < count; ++c) {
     if (set[c] || seen[c]) continue;
     ++t.cavities;
     seen[c] = 1;
-    stack.assign(1, c);
-    flood(n, false, seen, stack, free);
+    seeds.assign(1, c);
+    flood_by_runs(n, false, seen, seeds, free);
   }
   return t;
 }
