@@ -135,6 +135,7 @@ class IntersectionGuard {
   std::vector<int> moved_vertices_;
   std::vector<int> flipped_faces_;
   std::vector<int> changed_faces_;  // prepare_moves()'s scratch
+  std::vector<char> face_listed_;   // prepare_moves()'s scratch, per face (all 0 between calls)
   // apply_moves()'s scratch, per vertex and per face (kept: a deformation
   // cycle calls it with few moves on a large mesh).
   std::vector<int> move_of_;       // per vertex: its index in the moves, -1 if none
