@@ -267,17 +267,19 @@ struct Sample {
   double weight;  // how far the sample moves when the vertex moves by one
 };
 
+Vec3 centroid(const Mesh& mesh, Mesh::FaceHandle f) {
+  Vec3 c = Vec3::Zero();
+  for (auto w : mesh.fv_range(f)) c += pos(mesh, w);
+  return c / 3.0;
+}
+
 // A vertex's samples (itself, its faces' centroids, its edges' midpoints),
 // each weighted by how far it moves when the vertex moves by one: the mean
 // of their distances to the crossing is the vertex's offset.
 void plain_samples(const Mesh& mesh, Mesh::VertexHandle v, std::vector<Sample>& samples) {
   const Vec3 p = pos(mesh, v);
   samples.push_back({p, 1.0});
-  for (auto f : mesh.vf_range(v)) {
-    Vec3 c = Vec3::Zero();
-    for (auto w : mesh.fv_range(f)) c += pos(mesh, w);
-    samples.push_back({c / 3.0, 1.0 / 3.0});
-  }
+  for (auto f : mesh.vf_range(v)) samples.push_back({centroid(mesh, f), 1.0 / 3.0});
   for (auto w : mesh.vv_range(v)) samples.push_back({0.5 * (p + pos(mesh, w)), 0.5});
 }
 
@@ -298,10 +300,8 @@ void area_weighted_samples(const Mesh& mesh, Mesh::VertexHandle v, const std::ve
   samples.push_back({p, 0.0});
   double around = 0.0;
   for (auto f : mesh.vf_range(v)) {
-    Vec3 c = Vec3::Zero();
-    for (auto w : mesh.fv_range(f)) c += pos(mesh, w);
     around += area(f);
-    samples.push_back({c / 3.0, 9.0 * area(f)});
+    samples.push_back({centroid(mesh, f), 9.0 * area(f)});
   }
   for (auto h : mesh.voh_range(v))
     samples.push_back({0.5 * (p + pos(mesh, mesh.to_vertex_handle(h))),

@@ -61,10 +61,11 @@ struct FitResult {
 // is the mean signed distance to the crossing from its samples (itself, its
 // faces' centroids, its edges' midpoints), weighted by how much each moves
 // with the vertex (and, with options.area_weighted, by the faces' areas as
-// the area integral of the distance against the vertex's hat function); offsets are averaged once with the 1-ring's (noise), the
-// vertex's own part given back in proportion to how far it stands above
-// options.noise (Wiener-like) and drawn toward the quadric over its 2-ring
-// where its height above it is within what the noise explains, then applied
+// the area integral of the distance against the vertex's hat function);
+// offsets are averaged once with the 1-ring's (noise), the vertex's own part
+// given back in proportion to how far it stands above options.noise
+// (Wiener-like) and drawn toward the quadric over its 2-ring where its
+// height above it is within what the noise explains, then applied
 // one at a time (moves under a hundredth of a voxel skipped), each checked
 // by the IntersectionGuard (a refused move is retried at half and a quarter
 // length) and kept inside the grid: in vertex order, or, in a pass of at
