@@ -186,59 +186,8 @@ TEST(SubvoxelFit, removes_the_shortfall_and_the_inward_bias) {
   EXPECT_LT(std::abs(signed_mean[1]), 0.02);
 }
 
-// The area-weighted samples (FitOptions::area_weighted, the face budget's
-// last fit): coarse flat faces across a clean sphere settle nearer the
-// least-squares place, 3/4 of their sagitta outside at the vertices, than
-// with the plain weights (0.71), and the faces' area-averaged distance to
-// the sphere is smaller (in theory by 7 %: 0.163 -> 0.151 of the sagitta
-// for equilateral faces).
-TEST(SubvoxelFit, area_weighted_samples_put_coarse_faces_across_the_surface_by_least_squares) {
-  ph::Grid grid;
-  grid.dims = {48, 48, 48};
-  const double radius = 15.0;
-  const auto sdf = ph::sphere(grid.center(), radius);
-  const Volume volume = ph::voxelize(grid, sdf, kBackground, kContrast);
-  double share[2], area_error[2];
-  for (int weighted = 0; weighted < 2; ++weighted) {
-    Mesh mesh = make_geodesic_sphere(grid.center(), radius, 2);  // 320 faces, edges of about 3.6 voxels
-    FitOptions o;
-    o.area_weighted = weighted == 1;
-    o.passes = 30;
-    std::vector<Vec3> origin;
-    fit_to_threshold(mesh, volume, kThreshold, o, origin);
-    test::expect_valid_closed_surface(mesh);
-    double vertex_sum = 0.0, centroid_sum = 0.0, error = 0.0, area = 0.0;
-    for (auto v : mesh.vertices()) vertex_sum += sdf(to_eigen(mesh.point(v)));
-    for (auto f : mesh.faces()) {
-      auto it = mesh.cfv_iter(f);
-      const Vec3 a = to_eigen(mesh.point(*it)), b = to_eigen(mesh.point(*++it)), c = to_eigen(mesh.point(*++it));
-      centroid_sum += sdf((a + b + c) / 3.0);
-      // |distance| over the face: the mean over the centroids of its 64
-      // equal sub-triangles (8 steps along each edge).
-      const double face_area = 0.5 * (b - a).cross(c - a).norm();
-      constexpr int kSteps = 8;
-      const auto at = [&](double i, double j) { return std::abs(sdf(a + (b - a) * (i / kSteps) + (c - a) * (j / kSteps))); };
-      double sum = 0.0;
-      for (int i = 0; i < kSteps; ++i)
-        for (int j = 0; i + j < kSteps; ++j) {
-          sum += at(i + 1.0 / 3.0, j + 1.0 / 3.0);
-          if (i + j < kSteps - 1) sum += at(i + 2.0 / 3.0, j + 2.0 / 3.0);
-        }
-      error += face_area * sum / (kSteps * kSteps);
-      area += face_area;
-    }
-    const double vertex_mean = vertex_sum / static_cast<double>(mesh.n_vertices());
-    const double centroid_mean = centroid_sum / static_cast<double>(mesh.n_faces());
-    share[weighted] = vertex_mean / (vertex_mean - centroid_mean);  // of the sagitta, outside
-    area_error[weighted] = error / area;
-    std::printf("%s weights: vertices %+.4f, centroids %+.4f voxel: %.2f of the sagitta outside; area-averaged "
-                "|distance| %.4f voxel\n",
-                weighted ? "area" : "plain", vertex_mean, centroid_mean, share[weighted], area_error[weighted]);
-  }
-  EXPECT_GT(share[1], share[0] + 0.025);
-  EXPECT_NEAR(share[1], 0.75, 0.03);
-  EXPECT_LT(area_error[1], 0.97 * area_error[0]);
-}
+
+
 
 // A pass with many moves makes them by cubes of space, the cubes of a
 // colour on the threads at once (surface_fit.cpp, space_blocks.h): the

@@ -1380,18 +1380,7 @@ void Deformer::reduce_to_budget(const FitOptions& fit, DeformResult& result) {
   r.noise = fit.noise;
   result.budget_collapses += reduce_to_faces(mesh_, r).collapses;
   std::vector<Vec3> origin;  // anchored where the reduction left the vertices
-  // The reduced faces are large: their samples are weighted by area
-  // (FitOptions::area_weighted), so they lie across the surface by least
-  // squares. Face sweep (gdm_benchmark_study --faces-sweep, 5, 10, 20 % of
-  // flying edges' faces, noise sigma 4.5, 7.5, 15, 20): 186 of 240 rows
-  // closer to the truth, 45 farther, geometric mean 0.989 (clean sphere at
-  // 5 % 0.0628 -> 0.0606 voxel, clean ellipsoid 0.0969 -> 0.0932; at most
-  // 5 % farther, on the cube with impulse noise, 0.013 against the chain's
-  // 4.4). Not on the other fits: at the paper's level of detail the cube's
-  // mean rose 0.0263 -> 0.0282 for 1 % on the curved phantoms.
-  FitOptions across = fit;
-  across.area_weighted = true;
-  result.fit_moves += fit_to_threshold(mesh_, volume_, o_.threshold, across, origin).moves;
+  result.fit_moves += fit_to_threshold(mesh_, volume_, o_.threshold, fit, origin).moves;
   sharpen_edges(fit, result);
 }
 

@@ -267,48 +267,6 @@ struct Sample {
   double weight;  // how far the sample moves when the vertex moves by one
 };
 
-Vec3 centroid(const Mesh& mesh, Mesh::FaceHandle f) {
-  Vec3 c = Vec3::Zero();
-  for (auto w : mesh.fv_range(f)) c += pos(mesh, w);
-  return c / 3.0;
-}
-
-// A vertex's samples (itself, its faces' centroids, its edges' midpoints),
-// each weighted by how far it moves when the vertex moves by one: the mean
-// of their distances to the crossing is the vertex's offset.
-void plain_samples(const Mesh& mesh, Mesh::VertexHandle v, std::vector<Sample>& samples) {
-  const Vec3 p = pos(mesh, v);
-  samples.push_back({p, 1.0});
-  for (auto f : mesh.vf_range(v)) samples.push_back({centroid(mesh, f), 1.0 / 3.0});
-  for (auto w : mesh.vv_range(v)) samples.push_back({0.5 * (p + pos(mesh, w)), 0.5});
-}
-
-// The same samples weighted as the integral over the vertex's faces of the
-// distance times its hat function (1 at the vertex, 0 on the far edge): the
-// seven-point rule exact for cubics on a triangle (vertices 3, edge
-// midpoints 8, centroid 27, out of 60, of the face's area) times the hat
-// function there (1, 1/2, 1/3). The offset's mean is then that integral's
-// zero: the faces around lie across the surface by least squares, large
-// faces included, where the plain weights count the vertex twice as much.
-// The vertex's own sample stays first (its crossing is the vertex's own).
-void area_weighted_samples(const Mesh& mesh, Mesh::VertexHandle v, const std::vector<Vec3>& face_normals,
-                           std::vector<Sample>& samples) {
-  const auto area = [&](Mesh::FaceHandle f) {
-    return f.is_valid() ? 0.5 * face_normals[static_cast<std::size_t>(f.idx())].norm() : 0.0;
-  };
-  const Vec3 p = pos(mesh, v);
-  samples.push_back({p, 0.0});
-  double around = 0.0;
-  for (auto f : mesh.vf_range(v)) {
-    around += area(f);
-    samples.push_back({centroid(mesh, f), 9.0 * area(f)});
-  }
-  for (auto h : mesh.voh_range(v))
-    samples.push_back({0.5 * (p + pos(mesh, mesh.to_vertex_handle(h))),
-                       4.0 * (area(mesh.face_handle(h)) + area(mesh.opposite_face_handle(h)))});
-  samples.front().weight = 3.0 * around;
-}
-
 }  // namespace
 
 FitResult fit_to_threshold(Mesh& mesh, const Volume& volume, double threshold, const FitOptions& o,
@@ -366,12 +324,16 @@ FitResult fit_to_threshold(Mesh& mesh, const Volume& volume, double threshold, c
       const Vec3 n = smoothed_normal(mesh, v, o.normal_rings, face_normals);
       normal[i] = n;
       if (n.isZero()) return;
+      const Vec3 p = pos(mesh, v);
       thread_local std::vector<Sample> samples;
       samples.clear();
-      if (o.area_weighted)
-        area_weighted_samples(mesh, v, face_normals, samples);
-      else
-        plain_samples(mesh, v, samples);
+      samples.push_back({p, 1.0});
+      for (auto f : mesh.vf_range(v)) {
+        Vec3 c = Vec3::Zero();
+        for (auto w : mesh.fv_range(f)) c += pos(mesh, w);
+        samples.push_back({c / 3.0, 1.0 / 3.0});
+      }
+      for (auto w : mesh.vv_range(v)) samples.push_back({0.5 * (p + pos(mesh, w)), 0.5});
       double num = 0.0, den = 0.0;
       own[i] = std::numeric_limits<double>::quiet_NaN();
       for (const auto& s : samples) {

@@ -38,12 +38,6 @@ struct FitOptions {
   double quadric_step = 1.0;    // share of that pull a vertex goes per pass, in (0, 1]: every vertex
                                 // moves at once, so a strong pull (most vertices within s) needs a
                                 // damped step or the ring's finest mode is swapped, not smoothed
-  bool area_weighted = false;   // the samples weighted as the area integral of the distance against the
-                                // vertex's hat function (exact for a quadratic surface over each face:
-                                // vertex 3, edge midpoints 4 x the two faces' areas, centroids 9 x the
-                                // face's area, out of 60): at the fixed point flat faces across a sphere
-                                // sit at 3/4 of their sagitta, the least-squares place (the plain
-                                // weights 1, 1/2, 1/3 give 0.71); false: the plain weights
   std::vector<double> vertex_max_distance;  // mm, by vertex index: where given (and > 0) it replaces
                                             // max_distance for that vertex; empty: max_distance for all
   bool prevent_self_intersection = true;  // every move checked by the IntersectionGuard
@@ -60,12 +54,10 @@ struct FitResult {
 // lies on the threshold crossings on average: per pass, each vertex's offset
 // is the mean signed distance to the crossing from its samples (itself, its
 // faces' centroids, its edges' midpoints), weighted by how much each moves
-// with the vertex (and, with options.area_weighted, by the faces' areas as
-// the area integral of the distance against the vertex's hat function);
-// offsets are averaged once with the 1-ring's (noise), the vertex's own part
-// given back in proportion to how far it stands above options.noise
-// (Wiener-like) and drawn toward the quadric over its 2-ring where its
-// height above it is within what the noise explains, then applied
+// with the vertex; offsets are averaged once with the 1-ring's (noise), the
+// vertex's own part given back in proportion to how far it stands above
+// options.noise (Wiener-like) and drawn toward the quadric over its 2-ring
+// where its height above it is within what the noise explains, then applied
 // one at a time (moves under a hundredth of a voxel skipped), each checked
 // by the IntersectionGuard (a refused move is retried at half and a quarter
 // length) and kept inside the grid: in vertex order, or, in a pass of at
