@@ -60,7 +60,10 @@ struct Grid {
         for (v[0] = 0; v[0] < n[0]; ++v[0], ++c) f(c, static_cast<const Index3&>(v));
   }
   // Marks every voxel 6-connected to the marked ones through `passable`
-  // (marks only passable voxels); a stack, no recursion.
+  // (marks only passable voxels); a stack, no recursion. Only the pockets
+  // use it (fill_pockets): they collect their members as passable admits
+  // each, once and in this order, which flood_by_runs (voxel_flood.h, for
+  // the floods that need only the marks) does not promise.
   template <typename Passable>
   void flood(std::vector<char>& marked, std::vector<std::size_t>& stack, Passable&& passable) const {
     while (!stack.empty()) {
