@@ -338,6 +338,14 @@ ErrorStats error_stats(const std::vector<Point>& points, const std::function<dou
   std::vector<double> d(points.size());
   for (std::size_t i = 0; i < points.size(); ++i) d[i] = std::abs(distance(points[i])) / voxel_size;
   e.mean = std::accumulate(d.begin(), d.end(), 0.0) / static_cast<double>(d.size());
+  double within = 0.0;
+  std::size_t beyond = 0;
+  for (double x : d) {
+    if (x > 1.0) ++beyond;
+    else within += x;
+  }
+  e.share_beyond_one = static_cast<double>(beyond) / static_cast<double>(d.size());
+  e.mean_within_one = beyond < d.size() ? within / static_cast<double>(d.size() - beyond) : 0.0;
   e.max = *std::max_element(d.begin(), d.end());
   const std::size_t k = std::min(d.size() - 1, static_cast<std::size_t>(std::ceil(0.95 * d.size())) - 1);
   std::nth_element(d.begin(), d.begin() + static_cast<long>(k), d.end());

@@ -49,6 +49,11 @@ std::vector<Point> sample_points(const Surface& surface);
 
 struct ErrorStats {
   double mean = 0.0, p95 = 0.0, max = 0.0;  // voxels
+  // Split at one voxel: where a model bridges what the reference follows
+  // (a solid model's membranes over handles and pocket mouths) its points
+  // lie farther than that, elsewhere it follows the data.
+  double share_beyond_one = 0.0;  // share of the points farther than one voxel
+  double mean_within_one = 0.0;   // mean over the others, voxels
   bool valid = false;
 };
 // |distance| of the points, divided by voxel_size.

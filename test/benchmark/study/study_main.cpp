@@ -842,9 +842,11 @@ int faces_sweep(const Settings& s) {
   if (!s.out.empty()) {
     fs::create_directories(s.out);
     csv.open((fs::path(s.out) / "faces-sweep.csv").string());
-    csv << "case,fraction,fe_faces,method,faces,mean_vox,p95_vox,seconds\n";
+    csv << "case,fraction,fe_faces,method,faces,mean_vox,p95_vox,seconds,share_beyond_1vox,mean_within_1vox\n";
   }
-  std::printf("| phantom | budget | gdm faces | gdm mean / p95 | chain faces | chain mean / p95 | gdm s |\n|---|---|---|---|---|---|---|\n");
+  std::printf("| phantom | budget | gdm faces | gdm mean / p95 | chain faces | chain mean / p95 | gdm s "
+              "| beyond 1 voxel: gdm / chain | mean within 1 voxel: gdm / chain |\n"
+              "|---|---|---|---|---|---|---|---|---|\n");
   const CaseSet set = s.sweep_scans ? scan_cases(s.data) : phantom_cases(false, s.noise);
   for (const std::string& why : set.skipped) std::fprintf(stderr, "skipped: %s\n", why.c_str());
   for (const Case& c : set.cases) {
@@ -858,7 +860,7 @@ int faces_sweep(const Settings& s) {
     const auto row = [&](double fraction, const char* method, std::size_t faces, const ErrorStats& e, double seconds) {
       if (csv.is_open())
         csv << '"' << c.name << "\"," << fraction << ',' << fe_faces << ',' << method << ',' << faces << ',' << e.mean
-            << ',' << e.p95 << ',' << seconds << '\n';
+            << ',' << e.p95 << ',' << seconds << ',' << e.share_beyond_one << ',' << e.mean_within_one << '\n';
     };
     std::vector<double> fractions = s.fractions;
     if (!s.budgets.empty()) {
@@ -876,9 +878,10 @@ int faces_sweep(const Settings& s) {
         const ErrorStats ge = error_stats(sample_points(g.surface), truth.distance, c.voxel_size());
         const PeerResult sl = run_slicer_chain(c.image, c.threshold, g.surface.faces.size());
         const ErrorStats se = error_stats(sample_points(sl.surface), truth.distance, c.voxel_size());
-        std::printf("| %s | %.0f %% of %zu | %zu | %.3f / %.3f | %zu | %.3f / %.3f | %.2f |\n", c.name.c_str(),
-                    100.0 * fraction, fe_faces, g.surface.faces.size(), ge.mean, ge.p95, sl.surface.faces.size(),
-                    se.mean, se.p95, g.seconds);
+        std::printf("| %s | %.0f %% of %zu | %zu | %.3f / %.3f | %zu | %.3f / %.3f | %.2f | %.1f / %.1f %% | %.3f / %.3f |\n",
+                    c.name.c_str(), 100.0 * fraction, fe_faces, g.surface.faces.size(), ge.mean, ge.p95,
+                    sl.surface.faces.size(), se.mean, se.p95, g.seconds, 100.0 * ge.share_beyond_one,
+                    100.0 * se.share_beyond_one, ge.mean_within_one, se.mean_within_one);
         row(fraction, "gdm", g.surface.faces.size(), ge, g.seconds);
         row(fraction, "slicer", sl.surface.faces.size(), se, sl.seconds);
         if (s.sweep_cgal) {
