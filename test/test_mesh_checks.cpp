@@ -400,6 +400,33 @@ TEST(MeshChecks, grid_broad_phase_matches_brute_force_on_mixed_sizes) {
   EXPECT_EQ(pairs, brute_force_pairs(mesh));
 }
 
+// The grid's cells are listed by counting over the dense grid when it has
+// few cells per face, else by sorting (cell, face) pairs: two sliced tori
+// far apart along a diagonal leave the grid too sparse to count over; both
+// ways must find the pairs a test of every pair finds, and the same count.
+TEST(MeshChecks, grid_broad_phase_matches_brute_force_on_a_sparse_grid) {
+  Mesh near = make_torus(3.0, 1.0, 48, 24);
+  add_box(near, Vec3(-1, -1, -0.2), Vec3(1, 5, 0.2));  // cuts one side of the tube
+  const std::size_t dense_pairs = gdm::self_intersecting_pairs(near, 2);
+  EXPECT_GT(dense_pairs, 0u);
+  EXPECT_EQ(dense_pairs, brute_force_pairs(near));
+  Mesh apart = near;
+  const Vec3 offset(4.0e4, 3.0e4, 2.0e4);
+  std::vector<Mesh::VertexHandle> copy;
+  for (const auto v : near.vertices()) copy.push_back(apart.add_vertex(gdm::to_point(gdm::to_eigen(near.point(v)) + offset)));
+  for (const auto f : near.faces()) {
+    std::vector<Mesh::VertexHandle> corners;
+    for (const auto v : near.fv_range(f)) corners.push_back(copy[static_cast<std::size_t>(v.idx())]);
+    apart.add_face(corners);
+  }
+  ASSERT_EQ(apart.n_faces(), 2 * near.n_faces());
+  // (Not twice the near count: the copy's rounded coordinates touch or
+  // cross in a few other places.)
+  const std::size_t expected = brute_force_pairs(apart);
+  EXPECT_GT(expected, dense_pairs);
+  for (int threads : {1, 2}) EXPECT_EQ(gdm::self_intersecting_pairs(apart, threads), expected) << threads << " threads";
+}
+
 // measure() gathers the faces, counts the intersecting pairs and finds the
 // smallest angle on several threads: every field the same for any count,
 // bit for bit, also with deleted faces left in the mesh (not yet collected).
