@@ -433,12 +433,24 @@ constexpr double kMembraneHalfThickness = 3.5;
 // widest places first (see the header); what it cannot take is the
 // membranes, given to the object and thickened.
 void CavityFinder::cap_handles(CavityFill& fill) {
-  const std::vector<float> d2 = distance_to_solid();
   enum : char { kFixed = 0, kFree = 1, kQueued = 2, kReached = 3 };
-  std::vector<char> state(box_.count(), kFixed);
+  // Each voxel's squared distance to the solid (the queue's key) beside its
+  // state: the growth reads both for the 27 voxels around each one it takes,
+  // in the queue's order, not the memory's, and side by side they share
+  // cache lines (two arrays: two misses for most of them; the T1 head's 5.3
+  // million pops, issue 17).
+  struct Voxel {
+    float d2 = 0.0f;
+    char state = kFixed;
+  };
+  std::vector<Voxel> at(box_.count());
+  {
+    const std::vector<float> d2 = distance_to_solid();
+    for (std::size_t c = 0; c < d2.size(); ++c) at[c].d2 = d2[c];
+  }
   box_.for_each_voxel([&](std::size_t c, const Index3& v) {
     if (kind_[c] == kObject || fill_[c]) return;
-    state[c] = (kind_[c] == kOutside || box_.on_border(v)) ? kReached : kFree;
+    at[c].state = (kind_[c] == kOutside || box_.on_border(v)) ? kReached : kFree;
   });
   // Largest distance first. Distances between voxel centres tie in plateaus
   // (at a hole's waist, for a voxel or two either side); ties broken by the
@@ -453,7 +465,7 @@ void CavityFinder::cap_handles(CavityFill& fill) {
     z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
     z ^= z >> 31;
     std::uint32_t bits = 0;
-    std::memcpy(&bits, &d2[c], sizeof bits);
+    std::memcpy(&bits, &at[c].d2, sizeof bits);
     return (static_cast<std::uint64_t>(bits) << 32) | (z & 0xffffffffull);
   };
   using Entry = std::pair<std::uint64_t, std::size_t>;
@@ -468,16 +480,16 @@ void CavityFinder::cap_handles(CavityFill& fill) {
   const auto requeue = [&](std::size_t c) {
     for (int s = 0; s < 27; ++s) {
       const std::size_t m = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(c) + offset[static_cast<std::size_t>(s)]);
-      if (state[m] != kFree) continue;
-      state[m] = kQueued;
+      if (at[m].state != kFree) continue;
+      at[m].state = kQueued;
       queue.push({key(m), m});
     }
   };
   for (std::size_t c = 0; c < box_.count(); ++c) {
-    if (state[c] != kFree) continue;
+    if (at[c].state != kFree) continue;
     for (const std::ptrdiff_t step : {-sx, sx, -sy, sy, -sz, sz})
-      if (state[static_cast<std::size_t>(static_cast<std::ptrdiff_t>(c) + step)] == kReached) {
-        state[c] = kQueued;
+      if (at[static_cast<std::size_t>(static_cast<std::ptrdiff_t>(c) + step)].state == kReached) {
+        at[c].state = kQueued;
         queue.push({key(c), c});
         break;
       }
@@ -486,13 +498,13 @@ void CavityFinder::cap_handles(CavityFill& fill) {
   while (!queue.empty()) {
     const std::size_t c = queue.top().second;
     queue.pop();
-    state[c] = kFree;
+    at[c].state = kFree;
     std::uint32_t reached = 0;
     for (int s = 0; s < 27; ++s)
-      if (state[static_cast<std::size_t>(static_cast<std::ptrdiff_t>(c) + offset[static_cast<std::size_t>(s)])] == kReached)
+      if (at[static_cast<std::size_t>(static_cast<std::ptrdiff_t>(c) + offset[static_cast<std::size_t>(s)])].state == kReached)
         reached |= 1u << s;
     if (!hood.simple(reached)) continue;
-    state[c] = kReached;
+    at[c].state = kReached;
     requeue(c);
   }
 
@@ -518,12 +530,12 @@ void CavityFinder::cap_handles(CavityFill& fill) {
   Index3 reach;
   for (int a = 0; a < 3; ++a) reach[a] = static_cast<int>(std::floor(t / h[a]));
   for (std::size_t c = 0; c < box_.count(); ++c) {
-    if (seen[c] || state[c] != kFree || kind_[c] != kBackground) continue;
+    if (seen[c] || at[c].state != kFree || kind_[c] != kBackground) continue;
     seen[c] = 1;
     members.assign(1, c);
     double widest = 0.0;
     for (std::size_t q = 0; q < members.size(); ++q) {
-      widest = std::max(widest, static_cast<double>(d2[members[q]]));
+      widest = std::max(widest, static_cast<double>(at[members[q]].d2));
       const Index3 v = box_.voxel(members[q]);
       for (int dz = -1; dz <= 1; ++dz)
         for (int dy = -1; dy <= 1; ++dy)
@@ -531,7 +543,7 @@ void CavityFinder::cap_handles(CavityFill& fill) {
             const Index3 u{v[0] + dx, v[1] + dy, v[2] + dz};
             if (u[0] < 0 || u[1] < 0 || u[2] < 0 || u[0] >= n[0] || u[1] >= n[1] || u[2] >= n[2]) continue;
             const std::size_t ui = box_.index(u[0], u[1], u[2]);
-            if (seen[ui] || state[ui] != kFree || kind_[ui] != kBackground) continue;
+            if (seen[ui] || at[ui].state != kFree || kind_[ui] != kBackground) continue;
             seen[ui] = 1;
             members.push_back(ui);
           }
@@ -552,7 +564,7 @@ void CavityFinder::cap_handles(CavityFill& fill) {
               const Index3 u{v[0] + dx, v[1] + dy, v[2] + dz};
               if (u[0] < 0 || u[1] < 0 || u[2] < 0 || u[0] >= n[0] || u[1] >= n[1] || u[2] >= n[2]) continue;
               const std::size_t ui = box_.index(u[0], u[1], u[2]);
-              if (kind_[ui] != kBackground || fill_[ui] || state[ui] != kReached || !in_sight(v, u)) continue;
+              if (kind_[ui] != kBackground || fill_[ui] || at[ui].state != kReached || !in_sight(v, u)) continue;
               fill_[ui] = 1;
               thick.push_back(ui);
               ++cap.voxels;
