@@ -160,6 +160,10 @@ class CavityFinder {
   bool object_of_the_seed(std::vector<char>& object, Index3& lo, Index3& hi) const;
   bool every_component(std::vector<char>& object, Index3& lo, Index3& hi) const;
   void make_box(const std::vector<char>& object, const Index3& lo, const Index3& hi);
+  // Where the box starts out reached from outside: beyond the volume or on the box's border.
+  bool outside_or_border(std::size_t c, const Index3& v) const { return kind_[c] == kOutside || box_.on_border(v); }
+  template <typename Passable>
+  std::vector<char> flooded_from_outside(Passable&& passable) const;
   std::vector<char> reached_by_paths(const std::vector<char>& blocked) const;
   std::vector<char> reached_by_balls(const std::vector<float>& d2) const;
   void fill_pockets(const std::vector<char>& reached, const std::vector<char>& by_path, const std::vector<float>& d2,
@@ -278,17 +282,23 @@ void CavityFinder::make_box(const std::vector<char>& object, const Index3& lo, c
 }
 
 // Voxels joined to the outside (the box's border and everything outside the
-// volume) by a 6-connected path of voxels not `blocked`.
-std::vector<char> CavityFinder::reached_by_paths(const std::vector<char>& blocked) const {
+// volume) by a 6-connected path of voxels for which passable(index) holds.
+template <typename Passable>
+std::vector<char> CavityFinder::flooded_from_outside(Passable&& passable) const {
   std::vector<char> reached(box_.count(), 0);
-  std::vector<std::size_t> stack;
+  std::vector<std::size_t> seeds;
   box_.for_each_voxel([&](std::size_t c, const Index3& v) {
-    if (blocked[c] || !(kind_[c] == kOutside || box_.on_border(v))) return;
+    if (!passable(c) || !outside_or_border(c, v)) return;
     reached[c] = 1;
-    stack.push_back(c);
+    seeds.push_back(c);
   });
-  flood_by_runs(box_.n, false, reached, stack, [&](std::size_t c) { return !blocked[c]; });
+  flood_by_runs(box_.n, false, reached, seeds, passable);
   return reached;
+}
+
+// ... through voxels not `blocked`.
+std::vector<char> CavityFinder::reached_by_paths(const std::vector<char>& blocked) const {
+  return flooded_from_outside([&](std::size_t c) { return !blocked[c]; });
 }
 
 // Voxels outside the seed's object that a ball of diameter W reaches rolling
@@ -297,14 +307,7 @@ std::vector<char> CavityFinder::reached_by_paths(const std::vector<char>& blocke
 // component of the outside, dilated again.
 std::vector<char> CavityFinder::reached_by_balls(const std::vector<float>& d2) const {
   const double r2 = radius_ * radius_;
-  std::vector<char> component(box_.count(), 0);
-  std::vector<std::size_t> stack;
-  box_.for_each_voxel([&](std::size_t c, const Index3& v) {
-    if (d2[c] < r2 || !(kind_[c] == kOutside || box_.on_border(v))) return;
-    component[c] = 1;
-    stack.push_back(c);
-  });
-  flood_by_runs(box_.n, false, component, stack, [&](std::size_t c) { return d2[c] >= r2; });
+  const std::vector<char> component = flooded_from_outside([&](std::size_t c) { return d2[c] >= r2; });
   const std::vector<double> dilated = squared_distance_to(component, box_.n, volume_.spacing(), o_.threads);
   const double r2_dilate = r2 * (1.0 + 1e-9);
   std::vector<char> reached(box_.count(), 0);
@@ -450,7 +453,7 @@ void CavityFinder::cap_handles(CavityFill& fill) {
   }
   box_.for_each_voxel([&](std::size_t c, const Index3& v) {
     if (kind_[c] == kObject || fill_[c]) return;
-    at[c].state = (kind_[c] == kOutside || box_.on_border(v)) ? kReached : kFree;
+    at[c].state = outside_or_border(c, v) ? kReached : kFree;
   });
   // Largest distance first. Distances between voxel centres tie in plateaus
   // (at a hole's waist, for a voxel or two either side); ties broken by the
