@@ -190,6 +190,13 @@ class QualityPass {
   bool collapse_into_end(Mesh::HalfedgeHandle h, const CollapseOptions& co, const Accept& accept = {});
   bool collapse_to(Mesh::HalfedgeHandle h, double where, const CollapseOptions& co, const Accept& accept = {});
   std::size_t unfold_phase();
+  // The last resort: two collapses judged on the state they leave together.
+  std::size_t pair_phase();
+  bool collapse_pair(const std::array<Mesh::VertexHandle, 3>& face);
+  bool second_collapse(const std::array<Mesh::VertexHandle, 3>& face, Mesh::VertexHandle kept, double before,
+                       const Vec3& removed);
+  Mesh::VertexHandle undo_collapse(const Vec3& removed, int generation, Mesh::VertexHandle kept,
+                                   Mesh::VertexHandle left, Mesh::VertexHandle right);
   void angle_tiers();
   // Rounds of the angle tiers and the fold phase (run()).
   static constexpr int kFoldRounds = 3;
@@ -574,6 +581,174 @@ bool QualityPass::collapse_to(Mesh::HalfedgeHandle h, double where, const Collap
   mesh_.set_point(v1, to_point(m));
   note_changed_vertex(v1);
   return true;
+}
+
+// Two collapses judged together: the last resort of the last tier, for the
+// faces every single operation left below the bound. A collapse the one-step
+// rule refuses because it leaves a sliver may be the first half of a good
+// pair: on mri-epi's model the needle's short edge lies in a cluster of three
+// vertices 0.3 to 0.7 mm apart, one of valence three; the cluster's shortest
+// edge fails the link condition (because of that vertex), and removing the
+// vertex first leaves a 6.9 degree face, which the collapse of the cluster's
+// edge then removes (every face around at 12.8 degrees or more). The first
+// collapse (collapse_pair): an edge out of a corner of the face, or out of a
+// valence-three neighbour of a corner, into its other end, checked as every
+// collapse is (link condition, exact intersection tests, no face turned by
+// more than 45 degrees, the removed vertex within the error bound of the new
+// faces), its angles not judged. The second (second_collapse): the collapse
+// phase's own, of an edge of a face the first left below the bound, accepted
+// only when the face is gone or mended and the region both touch ends at the
+// bound, or above the smallest angle it had before the first. When no second
+// collapse is accepted, the first is undone (OpenMesh's vertex split, its
+// exact inverse), so a pair changes the mesh only when it mends.
+std::size_t QualityPass::pair_phase() {
+  request_status();
+  std::size_t pairs = 0;
+  for (auto f : bad()) {
+    if (mesh_.status(f).deleted() || face_min_angle(mesh_, f) >= bound_) continue;
+    if (collapse_pair(corners(mesh_, f))) ++pairs;
+  }
+  collect_garbage();
+  return pairs;
+}
+
+bool QualityPass::collapse_pair(const std::array<Mesh::VertexHandle, 3>& face_in) {
+  std::array<Mesh::VertexHandle, 3> face = face_in;
+  // The first collapses, as (from, into) pairs: the corners' edges, then the
+  // edges of valence-three neighbours of the corners; each list by length.
+  std::vector<std::pair<Mesh::VertexHandle, Mesh::VertexHandle>> firsts;
+  std::vector<Mesh::VertexHandle> from(face.begin(), face.end());
+  for (auto c : face)
+    for (auto w : mesh_.vv_range(c))
+      if (mesh_.valence(w) == 3 && std::find(from.begin(), from.end(), w) == from.end()) from.push_back(w);
+  for (auto v : from) {
+    std::vector<std::pair<double, int>> out;
+    for (auto h : mesh_.voh_range(v)) out.emplace_back(mesh_.calc_edge_length(h), mesh_.to_vertex_handle(h).idx());
+    std::sort(out.begin(), out.end());
+    for (const auto& o : out) firsts.emplace_back(v, Mesh::VertexHandle(o.second));
+  }
+  CollapseOptions co;
+  co.min_angle = 0.0;  // the pair's angles are judged on its end state
+  const auto gen = generation_property(mesh_);
+  for (std::size_t i = 0; i < firsts.size(); ++i) {
+    const auto [v0, v1] = firsts[i];
+    const auto h = mesh_.find_halfedge(v0, v1);
+    if (!h.is_valid() || !collapse_keeps_topology(mesh_, h) || !checker().geometry_ok(h, co)) continue;
+    const auto gone0 = mesh_.face_handle(h), gone1 = mesh_.face_handle(mesh_.opposite_halfedge_handle(h));
+    std::vector<Tri> created;
+    bool touches = false;
+    for (auto g : mesh_.vf_range(v0)) {
+      if (g == gone0 || g == gone1) continue;
+      Tri t;
+      int k = 0;
+      for (auto w : mesh_.fv_range(g)) t[k++] = w == v0 ? pos(mesh_, v1) : pos(mesh_, w);
+      touches = touches || blocked(t);
+      created.push_back(t);
+    }
+    const Vec3 p0 = pos(mesh_, v0);
+    if (touches || (max_error_ > 0.0 && distance_to(p0, created) > max_error_)) continue;
+    // The smallest angle of the region before: the face and the faces around both ends.
+    double before = triangle_min_angle(pos(mesh_, face[0]), pos(mesh_, face[1]), pos(mesh_, face[2]));
+    for (auto end : {v0, v1})
+      for (auto g : mesh_.vf_range(end)) before = std::min(before, face_min_angle(mesh_, g));
+    const auto left = mesh_.to_vertex_handle(mesh_.next_halfedge_handle(h));
+    const auto right = mesh_.to_vertex_handle(mesh_.next_halfedge_handle(mesh_.opposite_halfedge_handle(h)));
+    const int generation = mesh_.property(gen, v0);
+    collapse(h);
+    note_changed_vertex(v1);
+    std::array<Mesh::VertexHandle, 3> merged = face;
+    for (auto& c : merged) c = c == v0 ? v1 : c;
+    if (second_collapse(merged, v1, before, p0)) return true;
+    // Undone: v0 comes back under a new handle.
+    const auto back = undo_collapse(p0, generation, v1, left, right);
+    for (auto& c : face) c = c == v0 ? back : c;
+    for (auto& p : firsts) {
+      p.first = p.first == v0 ? back : p.first;
+      p.second = p.second == v0 ? back : p.second;
+    }
+  }
+  return false;
+}
+
+// After the pair's first collapse into `kept`: a collapse of an edge of a
+// face around `kept` now below the bound (worst first; into either end,
+// else between them), under the collapse phase's rules and the pair's:
+// `face` (the first's merged corners) gone or among the faces around, every
+// face around `kept` and the second's ends at the bound or above `before`,
+// and `removed` (the first's vertex) within the error bound of them.
+bool QualityPass::second_collapse(const std::array<Mesh::VertexHandle, 3>& face, Mesh::VertexHandle kept,
+                                  double before, const Vec3& removed) {
+  std::vector<int> around;
+  for (auto g : mesh_.vf_range(kept)) around.push_back(g.idx());
+  const Accept end_state = [&](Mesh::HalfedgeHandle h, const Vec3& m) {
+    const auto a = mesh_.from_vertex_handle(h), b = mesh_.to_vertex_handle(h);
+    const auto gone0 = mesh_.face_handle(h), gone1 = mesh_.face_handle(mesh_.opposite_halfedge_handle(h));
+    std::vector<Mesh::FaceHandle> region;
+    for (auto v : {kept, a, b})
+      for (auto g : mesh_.vf_range(v))
+        if (g != gone0 && g != gone1 && std::find(region.begin(), region.end(), g) == region.end()) region.push_back(g);
+    std::vector<Tri> after;
+    double smallest = 180.0;
+    bool face_seen = false;
+    for (auto g : region) {
+      Tri t;
+      int k = 0;
+      bool is_face = true;
+      for (auto w : mesh_.fv_range(g)) {
+        is_face = is_face && std::find(face.begin(), face.end(), w) != face.end();
+        t[k++] = (w == a || w == b) ? m : pos(mesh_, w);
+      }
+      face_seen = face_seen || is_face;
+      smallest = std::min(smallest, triangle_min_angle(t[0], t[1], t[2]));
+      after.push_back(t);
+    }
+    // The face survives where no corner moved and it is not among the region's: then unchanged.
+    bool face_alive = false;
+    const auto fh = mesh_.find_halfedge(face[0], face[1]);
+    if (fh.is_valid()) {
+      for (auto hh : {fh, mesh_.opposite_halfedge_handle(fh)}) {
+        const auto g = mesh_.face_handle(hh);
+        if (!g.is_valid() || g == gone0 || g == gone1) continue;
+        bool same = true;
+        for (auto w : mesh_.fv_range(g)) same = same && std::find(face.begin(), face.end(), w) != face.end();
+        face_alive = face_alive || same;
+      }
+    }
+    if (face_alive && !face_seen) return false;
+    if (smallest < bound_ && !(smallest > before + 1e-6)) return false;
+    return !(max_error_ > 0.0) || distance_to(removed, after) <= max_error_;
+  };
+  CollapseOptions co;
+  co.min_angle = 0.0;
+  for (auto g : bad_among(mesh_, around, bound_)) {
+    std::vector<std::pair<double, int>> edges;
+    for (auto h : mesh_.fh_range(g)) edges.emplace_back(mesh_.calc_edge_length(h), h.idx());
+    std::sort(edges.begin(), edges.end());
+    for (const auto& e : edges)
+      for (auto h : {Mesh::HalfedgeHandle(e.second), mesh_.opposite_halfedge_handle(Mesh::HalfedgeHandle(e.second))})
+        if (collapse_into_end(h, co, end_state)) return true;
+    for (const auto& e : edges) {
+      const Mesh::HalfedgeHandle h(e.second);
+      if (!collapse_keeps_topology(mesh_, h)) continue;
+      for (const double where : {0.5, 0.25, 0.75})
+        if (collapse_to(h, where, co, end_state)) return true;
+    }
+  }
+  return false;
+}
+
+// Undoes a collapse into `kept` (left and right: the far corners of the two
+// faces it removed) by OpenMesh's vertex split, its inverse: the removed
+// vertex comes back at its place, under a new handle (returned), with its
+// generation; the guard and the checker hear of the faces around both.
+Mesh::VertexHandle QualityPass::undo_collapse(const Vec3& removed, int generation, Mesh::VertexHandle kept,
+                                              Mesh::VertexHandle left, Mesh::VertexHandle right) {
+  const auto back = mesh_.add_vertex(to_point(removed));
+  mesh_.property(generation_property(mesh_), back) = generation;
+  mesh_.vertex_split(back, kept, left, right);
+  note_changed_vertex(kept);
+  note_changed_vertex(back);
+  return back;
 }
 
 // A spike stands at least this many times its ring's radius above the
@@ -980,7 +1155,9 @@ void QualityPass::angle_tiers() {
       result_.moves += moves;
       if (flips + splits_made + collapses + moves == 0) break;
     }
-    // Flips that help after the last moves.
+    // Pairs of collapses for the faces left (the last resort), then flips
+    // that help after the last moves.
+    if (undo_splits_ && !bad().empty()) result_.collapses += 2 * pair_phase();
     if (!bad().empty()) result_.flips += flip_phase();
     if (bad().empty() || !(o_.max_error > 0.0)) break;
   }

@@ -36,7 +36,7 @@ struct QualityOptions {
 
 struct QualityResult {
   std::size_t flips = 0;          // edge flips made
-  std::size_t collapses = 0;      // short edges collapsed (spikes included)
+  std::size_t collapses = 0;      // short edges collapsed (spikes included; a pair of collapses counts two)
   std::size_t spikes = 0;         // of the collapses: spikes removed (spike_radius)
   std::size_t unfolds = 0;        // of the collapses: folded edges collapsed (unfold)
   std::size_t unfold_flips = 0;   // of the flips: folded edges flipped (unfold)
@@ -67,7 +67,10 @@ double triangle_min_angle(const Vec3& a, const Vec3& b, const Vec3& c);
 // directions, projected back onto the old faces of its ring, when that raises
 // the smallest angle around it. Flips and collapses move the surface by at
 // most max_error; faces still below the bound after the rounds get a second
-// and a third series of rounds with 2.5 and 5 times max_error. With
+// and a third series of rounds with 2.5 and 5 times max_error, and after the
+// third, pairs of collapses judged on the state they leave together (the
+// first, out of a corner or a valence-three neighbour of one, may leave a
+// sliver the second removes; undone when no second mends). With
 // options.unfold, edges folded beyond kFoldDegrees (mesh_checks.h) are then
 // flipped, else collapsed, where that leaves fewer folded edges around and
 // none sharper, under the same rules but the orientation and 45-degree
