@@ -54,6 +54,7 @@ struct Settings {
   std::vector<double> fractions = {0.05, 0.10, 0.20};  // --faces-sweep: budgets as fractions of flying edges' faces
   bool sweep_cgal = false;         // --faces-sweep: CGAL Mesh_3 matched to gdm's counts too (slow)
   bool sweep_scans = false;        // --faces-sweep: the real scans (--data) instead of the phantoms
+  bool sweep_exact = false;        // --faces-sweep: gdm with topology exact (handles opened, cavities inward)
   std::vector<double> budgets;     // --faces-sweep: face budgets as counts (instead of --fractions)
   PhantomNoise noise;              // the Gaussian-noise phantoms' sigma and first seed
 };
@@ -833,11 +834,16 @@ struct Sweep {
 // the whole study's run.) With --dump the gdm surfaces go to DIR/surfaces as
 // OFF. A fraction of 0 is gdm without a budget (its own count). --budgets
 // gives the budgets as face counts; --sweep-scans runs the real scans of
-// --data (distances to their reference surfaces) instead of the phantoms.
+// --data (distances to their reference surfaces) instead of the phantoms;
+// --sweep-exact runs gdm with topology exact (its handles opened, its
+// enclosed cavities as inward components), as a user keeping the data's
+// topology would.
 int faces_sweep(const Settings& s) {
   const int threads = thread_count(s);
   set_vtk_threads(threads);
-  const Method gdm_method = methods().front();
+  const auto all = methods();
+  const auto exact = std::find_if(all.begin(), all.end(), [](const Method& m) { return m.id == "gdm-exact"; });
+  const Method gdm_method = s.sweep_exact && exact != all.end() ? *exact : all.front();
   std::ofstream csv;
   if (!s.out.empty()) {
     fs::create_directories(s.out);
@@ -1267,6 +1273,7 @@ int main(int argc, char** argv) {
       else if (a == "--faces-sweep") s.faces_sweep = true;
       else if (a == "--sweep-cgal") s.sweep_cgal = true;
       else if (a == "--sweep-scans") s.sweep_scans = true;
+      else if (a == "--sweep-exact") s.sweep_exact = true;
       else if (a == "--budgets") {
         std::stringstream list(value());
         for (std::string item; std::getline(list, item, ',');) s.budgets.push_back(std::stod(item));
@@ -1278,7 +1285,7 @@ int main(int argc, char** argv) {
       }
       else {
         std::fprintf(stderr, "gdm_benchmark_study: unknown argument '%s'\nusage: gdm_benchmark_study --out DIR [--quick] "
-                             "[--runs N] [--threads N] [--data DIR] [--commit TEXT] [--budget SECONDS] [--only CASE-ID-PART]... [--dump] [--noise-sigma S] [--noise-seed N] [--faces-sweep [--fractions F,F,...|--budgets N,N,...] [--sweep-cgal] [--sweep-scans]]\n", a.c_str());
+                             "[--runs N] [--threads N] [--data DIR] [--commit TEXT] [--budget SECONDS] [--only CASE-ID-PART]... [--dump] [--noise-sigma S] [--noise-seed N] [--faces-sweep [--fractions F,F,...|--budgets N,N,...] [--sweep-cgal] [--sweep-scans] [--sweep-exact]]\n", a.c_str());
         return 2;
       }
     } catch (const std::exception&) {
