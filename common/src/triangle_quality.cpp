@@ -183,6 +183,9 @@ class QualityPass {
   std::size_t relax_phase();
   bool try_relax(Mesh::VertexHandle v);
   bool collapse_between_ends(Mesh::HalfedgeHandle h, const CollapseOptions& co);
+  // The faces around h's from-vertex but h's two, with that vertex at h's
+  // to-vertex: what a collapse of h into its end leaves there.
+  std::vector<Tri> faces_after_collapse(Mesh::HalfedgeHandle h) const;
   bool is_thin_spike(Mesh::VertexHandle v) const;
   bool remove_spike(Mesh::VertexHandle v);
   // A further condition on a collapse of h with its kept end at the point given.
@@ -506,6 +509,20 @@ std::size_t QualityPass::collapse_phase() {
   return collapses;
 }
 
+std::vector<Tri> QualityPass::faces_after_collapse(Mesh::HalfedgeHandle h) const {
+  const auto v0 = mesh_.from_vertex_handle(h), v1 = mesh_.to_vertex_handle(h);
+  const auto gone0 = mesh_.face_handle(h), gone1 = mesh_.face_handle(mesh_.opposite_halfedge_handle(h));
+  std::vector<Tri> out;
+  for (auto g : mesh_.vf_range(v0)) {
+    if (g == gone0 || g == gone1) continue;
+    Tri t;
+    int i = 0;
+    for (auto w : mesh_.fv_range(g)) t[i++] = w == v0 ? pos(mesh_, v1) : pos(mesh_, w);
+    out.push_back(t);
+  }
+  return out;
+}
+
 // Collapses h into its end (the from-vertex into the to-vertex) under the
 // collapse phase's rules: the link condition, CollapseChecker (no face
 // turned by more than co's bound, exact intersection tests), no new face
@@ -516,19 +533,13 @@ bool QualityPass::collapse_into_end(Mesh::HalfedgeHandle h, const CollapseOption
   if (!collapse_keeps_topology(mesh_, h)) return false;
   if (!checker().geometry_ok(h, co)) return false;
   const auto v0 = mesh_.from_vertex_handle(h), v1 = mesh_.to_vertex_handle(h);
-  const auto gone0 = mesh_.face_handle(h), gone1 = mesh_.face_handle(mesh_.opposite_halfedge_handle(h));
-  std::vector<Tri> created;
+  double before = 180.0, after = 180.0;
+  for (auto g : mesh_.vf_range(v0)) before = std::min(before, face_min_angle(mesh_, g));
+  const std::vector<Tri> created = faces_after_collapse(h);
   bool touches = false;
-  double before = std::min(face_min_angle(mesh_, gone0), face_min_angle(mesh_, gone1)), after = 180.0;
-  for (auto g : mesh_.vf_range(v0)) {
-    if (g == gone0 || g == gone1) continue;
-    before = std::min(before, face_min_angle(mesh_, g));
-    Tri t;
-    int i = 0;
-    for (auto w : mesh_.fv_range(g)) t[i++] = w == v0 ? pos(mesh_, v1) : pos(mesh_, w);
+  for (const Tri& t : created) {
     after = std::min(after, triangle_min_angle(t[0], t[1], t[2]));
     touches = touches || blocked(t);
-    created.push_back(t);
   }
   // Never a new face below the bound unless the smallest angle around rises.
   if (touches || (after < bound_ && !(after > before + 1e-6))) return false;
@@ -634,17 +645,8 @@ bool QualityPass::collapse_pair(const std::array<Mesh::VertexHandle, 3>& face_in
     const auto [v0, v1] = firsts[i];
     const auto h = mesh_.find_halfedge(v0, v1);
     if (!h.is_valid() || !collapse_keeps_topology(mesh_, h) || !checker().geometry_ok(h, co)) continue;
-    const auto gone0 = mesh_.face_handle(h), gone1 = mesh_.face_handle(mesh_.opposite_halfedge_handle(h));
-    std::vector<Tri> created;
-    bool touches = false;
-    for (auto g : mesh_.vf_range(v0)) {
-      if (g == gone0 || g == gone1) continue;
-      Tri t;
-      int k = 0;
-      for (auto w : mesh_.fv_range(g)) t[k++] = w == v0 ? pos(mesh_, v1) : pos(mesh_, w);
-      touches = touches || blocked(t);
-      created.push_back(t);
-    }
+    const std::vector<Tri> created = faces_after_collapse(h);
+    const bool touches = std::any_of(created.begin(), created.end(), [&](const Tri& t) { return blocked(t); });
     const Vec3 p0 = pos(mesh_, v0);
     if (touches || (max_error_ > 0.0 && distance_to(p0, created) > max_error_)) continue;
     // The smallest angle of the region before: the face and the faces around both ends.
@@ -806,15 +808,9 @@ bool QualityPass::remove_spike(Mesh::VertexHandle v) {
     const Mesh::HalfedgeHandle h(hi);
     if (!collapse_keeps_topology(mesh_, h)) continue;
     const auto into = mesh_.to_vertex_handle(h);
-    const auto gone0 = mesh_.face_handle(h), gone1 = mesh_.face_handle(mesh_.opposite_halfedge_handle(h));
     bool facing = true;
-    for (auto g : mesh_.vf_range(v)) {
-      if (g == gone0 || g == gone1) continue;
-      Tri t;
-      int i = 0;
-      for (auto w : mesh_.fv_range(g)) t[i++] = w == v ? pos(mesh_, into) : pos(mesh_, w);
+    for (const Tri& t : faces_after_collapse(h))
       facing = facing && (t[1] - t[0]).cross(t[2] - t[0]).dot(ring_normal) > 0.0 && !blocked(t);
-    }
     if (!facing || !checker().geometry_ok(h, co)) continue;
     collapse(h);
     note_changed_vertex(into);
