@@ -427,6 +427,42 @@ TEST(MeshChecks, grid_broad_phase_matches_brute_force_on_a_sparse_grid) {
   for (int threads : {1, 2}) EXPECT_EQ(gdm::self_intersecting_pairs(apart, threads), expected) << threads << " threads";
 }
 
+// faces_meet_mesh answers for the listed faces what the pair count answers
+// for the whole mesh when the rest is free of intersections: a torus (none)
+// and a box added at places that miss it, slice it, touch it or sit in its
+// hole; the box's faces listed. Two boxes that cross only each other count
+// too; an empty list meets nothing.
+TEST(MeshChecks, faces_meet_mesh_agrees_with_the_pair_count) {
+  const Mesh torus = make_torus(3.0, 1.0, 48, 24);
+  ASSERT_EQ(brute_force_pairs(torus), 0u);
+  const std::vector<std::pair<Vec3, Vec3>> boxes = {
+      {Vec3(10, 10, 10), Vec3(11, 11, 11)},      // far away
+      {Vec3(-1, -1, -0.2), Vec3(1, 5, 0.2)},     // slices one side of the tube
+      {Vec3(-0.5, -0.5, -0.5), Vec3(0.5, 0.5, 0.5)},  // in the hole, clear of the tube
+      {Vec3(2.5, -0.3, -0.3), Vec3(3.5, 0.3, 0.3)},   // inside the tube, clear of its wall
+      {Vec3(3.5, -0.5, -2.0), Vec3(4.5, 0.5, 2.0)},   // pierces the tube's wall
+  };
+  int meeting = 0;
+  for (const auto& [lo, hi] : boxes) {
+    Mesh mesh = torus;
+    const std::size_t before = mesh.n_faces();
+    add_box(mesh, lo, hi);
+    std::vector<Mesh::FaceHandle> box;
+    for (std::size_t f = before; f < mesh.n_faces(); ++f) box.emplace_back(static_cast<int>(f));
+    const bool meets = gdm::faces_meet_mesh(mesh, box);
+    EXPECT_EQ(meets, brute_force_pairs(mesh) > 0) << lo.transpose() << " .. " << hi.transpose();
+    meeting += meets ? 1 : 0;
+    EXPECT_FALSE(gdm::faces_meet_mesh(mesh, {}));
+  }
+  EXPECT_EQ(meeting, 2);  // the slice and the piercing box
+  Mesh two;
+  add_box(two, Vec3(0, 0, 0), Vec3(1, 1, 1));
+  add_box(two, Vec3(0.5, 0.3, 0.2), Vec3(1.5, 1.3, 1.2));
+  std::vector<Mesh::FaceHandle> all;
+  for (auto f : two.faces()) all.push_back(f);
+  EXPECT_TRUE(gdm::faces_meet_mesh(two, all));
+}
+
 // measure() gathers the faces, counts the intersecting pairs and finds the
 // smallest angle on several threads: every field the same for any count,
 // bit for bit, also with deleted faces left in the mesh (not yet collected).

@@ -15,7 +15,6 @@
 #include <vector>
 
 #include "gdm/mesh_checks.h"
-#include "gdm/predicates.h"
 #include "gdm/topology.h"
 
 namespace gdm {
@@ -335,55 +334,6 @@ bool tube(Mesh& mesh, const std::vector<int>& a, const std::vector<int>& b, doub
   return !faces.empty() && std::all_of(faces.begin(), faces.end(), [](auto h) { return h.is_valid(); });
 }
 
-// Whether any of the faces `added` meets another face of the mesh
-// improperly (triangles_intersect_improperly): each against the faces whose
-// box meets the added faces' common box (one pass over the mesh picks
-// them), the added among themselves once. The rest of the mesh is not
-// tested again: it was free of new intersections before (the tube's check
-// counted every pair of the whole mesh, 0.6 s on the CT series' model per
-// attempt, and the 46 handles there took 90 s, issue 17).
-bool meets_the_mesh(const Mesh& mesh, const std::vector<Mesh::FaceHandle>& added) {
-  if (added.empty()) return false;
-  const auto tri = [&](Mesh::FaceHandle f, std::array<Vec3, 3>& p, std::array<int, 3>& id) {
-    int c = 0;
-    for (auto v : mesh.fv_range(f)) {
-      p[c] = to_eigen(mesh.point(v));
-      id[c++] = v.idx();
-    }
-  };
-  std::vector<char> is_added(mesh.n_faces(), 0);
-  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-  std::vector<std::array<Vec3, 3>> ap(added.size());
-  std::vector<std::array<int, 3>> aid(added.size());
-  for (std::size_t i = 0; i < added.size(); ++i) {
-    is_added[added[i].idx()] = 1;
-    tri(added[i], ap[i], aid[i]);
-    for (const Vec3& q : ap[i]) {
-      lo = lo.cwiseMin(q);
-      hi = hi.cwiseMax(q);
-    }
-  }
-  const auto box_meets = [](const std::array<Vec3, 3>& p, const Vec3& blo, const Vec3& bhi) {
-    const Vec3 plo = p[0].cwiseMin(p[1]).cwiseMin(p[2]), phi = p[0].cwiseMax(p[1]).cwiseMax(p[2]);
-    return !((plo.array() > bhi.array()).any() || (phi.array() < blo.array()).any());
-  };
-  std::array<Vec3, 3> p;
-  std::array<int, 3> id;
-  for (auto f : mesh.faces()) {
-    if (is_added[f.idx()]) continue;
-    tri(f, p, id);
-    if (!box_meets(p, lo, hi)) continue;
-    for (std::size_t i = 0; i < added.size(); ++i)
-      if (box_meets(p, ap[i][0].cwiseMin(ap[i][1]).cwiseMin(ap[i][2]), ap[i][0].cwiseMax(ap[i][1]).cwiseMax(ap[i][2])) &&
-          triangles_intersect_improperly(ap[i], aid[i], p, id))
-        return true;
-  }
-  for (std::size_t i = 0; i < added.size(); ++i)
-    for (std::size_t j = i + 1; j < added.size(); ++j)
-      if (triangles_intersect_improperly(ap[i], aid[i], ap[j], aid[j])) return true;
-  return false;
-}
-
 // Adds to `patch` the faces that share an edge with it.
 void widen_patch(const Mesh& mesh, std::vector<int>& patch) {
   std::vector<char> in(mesh.n_faces(), 0);
@@ -421,7 +371,7 @@ bool opened_by_tube(Mesh& trial, const std::vector<int>& first, const std::vecto
   for (const auto& patch : {first, second})
     for (int f : patch) trial.delete_face(trial.face_handle(f), true);
   std::vector<Mesh::FaceHandle> added;
-  if (!tube(trial, a, b, pull, added) || meets_the_mesh(trial, added)) return false;
+  if (!tube(trial, a, b, pull, added) || faces_meet_mesh(trial, added)) return false;
   trial.garbage_collection();
   trial.release_vertex_status();
   trial.release_edge_status();

@@ -423,6 +423,53 @@ double surface_area(const Mesh& mesh) { return area_of(collect_faces(mesh)); }
 
 double smallest_angle_degrees(const Mesh& mesh) { return smallest_angle_of(collect_faces(mesh), 1); }
 
+bool faces_meet_mesh(const Mesh& mesh, const std::vector<Mesh::FaceHandle>& faces) {
+  if (faces.empty()) return false;
+  using Tri = std::array<Vec3, 3>;
+  using Ids = std::array<int, 3>;
+  const auto triangle = [&](Mesh::FaceHandle f, Tri& p, Ids& id) {
+    int c = 0;
+    for (auto v : mesh.fv_range(f)) {
+      p[c] = to_eigen(mesh.point(v));
+      id[c++] = v.idx();
+    }
+  };
+  const auto box_of = [](const Tri& p, Vec3& lo, Vec3& hi) {
+    lo = p[0].cwiseMin(p[1]).cwiseMin(p[2]);
+    hi = p[0].cwiseMax(p[1]).cwiseMax(p[2]);
+  };
+  const auto apart = [](const Vec3& alo, const Vec3& ahi, const Vec3& blo, const Vec3& bhi) {
+    return (alo.array() > bhi.array()).any() || (ahi.array() < blo.array()).any();
+  };
+  std::vector<char> listed(mesh.n_faces(), 0);
+  std::vector<Tri> p(faces.size());
+  std::vector<Ids> id(faces.size());
+  std::vector<Vec3> lo(faces.size()), hi(faces.size());
+  Vec3 all_lo = Vec3::Constant(std::numeric_limits<double>::infinity()), all_hi = -all_lo;
+  for (std::size_t i = 0; i < faces.size(); ++i) {
+    listed[static_cast<std::size_t>(faces[i].idx())] = 1;
+    triangle(faces[i], p[i], id[i]);
+    box_of(p[i], lo[i], hi[i]);
+    all_lo = all_lo.cwiseMin(lo[i]);
+    all_hi = all_hi.cwiseMax(hi[i]);
+  }
+  Tri q;
+  Ids qid;
+  Vec3 qlo, qhi;
+  for (auto f : mesh.faces()) {
+    if (listed[static_cast<std::size_t>(f.idx())]) continue;
+    triangle(f, q, qid);
+    box_of(q, qlo, qhi);
+    if (apart(qlo, qhi, all_lo, all_hi)) continue;
+    for (std::size_t i = 0; i < faces.size(); ++i)
+      if (!apart(qlo, qhi, lo[i], hi[i]) && triangles_intersect_improperly(p[i], id[i], q, qid)) return true;
+  }
+  for (std::size_t i = 0; i < faces.size(); ++i)
+    for (std::size_t j = i + 1; j < faces.size(); ++j)
+      if (!apart(lo[i], hi[i], lo[j], hi[j]) && triangles_intersect_improperly(p[i], id[i], p[j], id[j])) return true;
+  return false;
+}
+
 MeshReport measure(const Mesh& mesh, int threads) {
   MeshReport r;
   for (const auto v : mesh.vertices()) (void)v, ++r.vertices;

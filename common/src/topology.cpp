@@ -244,7 +244,6 @@ CavitySurfaces add_cavity_surfaces(
   std::stable_sort(regions.begin(), regions.end(),
                    [](const Region& a, const Region& b) { return a.voxels.size() > b.voxels.size(); });
   const Polarity cavity_polarity = brighter ? Polarity::object_darker : Polarity::object_brighter;
-  const std::size_t baseline = regions.empty() ? 0 : self_intersecting_pairs(mesh);
   for (const Region& r : regions) {
     Vec3 centre;
     double depth = 0.0;
@@ -268,7 +267,9 @@ CavitySurfaces add_cavity_surfaces(
     }
     Mesh joined = mesh;
     append_reversed(joined, part);
-    if (self_intersecting_pairs(joined) > baseline) {  // the cavity's model meets the outer one
+    std::vector<Mesh::FaceHandle> added;
+    for (std::size_t f = mesh.n_faces(); f < joined.n_faces(); ++f) added.emplace_back(static_cast<int>(f));
+    if (faces_meet_mesh(joined, added)) {  // the cavity's model meets the outer one (or itself)
       ++out.not_modelled;
       continue;
     }
