@@ -615,10 +615,15 @@ bool QualityPass::collapse_to(Mesh::HalfedgeHandle h, double where, const Collap
 std::size_t QualityPass::pair_phase() {
   request_status();
   std::size_t pairs = 0;
-  for (auto f : bad()) {
-    if (mesh_.status(f).deleted() || face_min_angle(mesh_, f) >= bound_) continue;
-    if (collapse_pair(corners(mesh_, f))) ++pairs;
-  }
+  // An undone pair leaves the two faces of its first edge deleted and makes
+  // them again under new handles (at or past `made`): a face below the bound
+  // among them gets its turn after the others.
+  const int made = static_cast<int>(mesh_.n_faces());
+  for (const bool again : {false, true})
+    for (auto f : bad()) {
+      if ((again && f.idx() < made) || mesh_.status(f).deleted() || face_min_angle(mesh_, f) >= bound_) continue;
+      if (collapse_pair(corners(mesh_, f))) ++pairs;
+    }
   collect_garbage();
   return pairs;
 }
