@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "gdm/mesh_checks.h"
 #include "gdm/parallel.h"
 #include "gdm/predicates.h"
 
@@ -11,23 +12,13 @@ namespace gdm {
 
 // ---- IntersectionGuard ----------------------------------------------------
 
-namespace {
-
-double mean_edge_length(const Mesh& mesh) {
-  double sum = 0.0;
-  for (auto e : mesh.edges()) sum += mesh.calc_edge_length(e);
-  return mesh.n_edges() ? sum / mesh.n_edges() : 1.0;
-}
-
-}  // namespace
-
 IntersectionGuard::IntersectionGuard(const Mesh& mesh, double margin, double min_face_area)
     : mesh_(&mesh), margin_(margin), min_face_area_(min_face_area) {
   rebuild();
 }
 
 void IntersectionGuard::rebuild() {
-  const double cell = std::max(2.0 * mean_edge_length(*mesh_), 4.0 * margin_);
+  const double cell = std::max(2.0 * (mesh_->n_edges() ? mean_edge_length(*mesh_) : 1.0), 4.0 * margin_);
   grid_.rebuild(*mesh_, cell > 0.0 ? cell : 1.0, margin_);
   moved_vertices_.clear();
   flipped_faces_.clear();

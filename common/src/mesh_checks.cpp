@@ -423,6 +423,12 @@ double surface_area(const Mesh& mesh) { return area_of(collect_faces(mesh)); }
 
 double smallest_angle_degrees(const Mesh& mesh) { return smallest_angle_of(collect_faces(mesh), 1); }
 
+double mean_edge_length(const Mesh& mesh) {
+  double sum = 0.0;
+  for (auto e : mesh.edges()) sum += mesh.calc_edge_length(e);
+  return mesh.n_edges() > 0 ? sum / static_cast<double>(mesh.n_edges()) : 0.0;
+}
+
 bool faces_meet_mesh(const Mesh& mesh, const std::vector<Mesh::FaceHandle>& faces) {
   if (faces.empty()) return false;
   using Tri = std::array<Vec3, 3>;

@@ -223,12 +223,6 @@ std::size_t new_border_vertices(const Mesh& before, const Mesh& after, const Vol
   return n;
 }
 
-double mean_edge_length(const Mesh& mesh) {
-  double sum = 0.0;
-  for (auto e : mesh.edges()) sum += mesh.calc_edge_length(e);
-  return mesh.n_edges() > 0 ? sum / static_cast<double>(mesh.n_edges()) : 0.0;
-}
-
 }  // namespace
 
 CavitySurfaces add_cavity_surfaces(

@@ -1166,11 +1166,7 @@ void QualityPass::angle_tiers() {
 
 QualityResult QualityPass::run() {
   result_.min_angle_before = smallest_angle_degrees(mesh_);
-  if (mesh_.n_edges() > 0) {
-    double sum = 0.0;
-    for (auto e : mesh_.edges()) sum += mesh_.calc_edge_length(e);
-    voxel_ = std::max(sum / static_cast<double>(mesh_.n_edges()), 1e-300);
-  }
+  if (mesh_.n_edges() > 0) voxel_ = std::max(mean_edge_length(mesh_), 1e-300);
   // Folds (mesh_checks.h), with the last tier's error bound: before the
   // tiers, so that they work on the unfolded surface, and after them, for
   // the folds their operations left. Measured at the defaults (faces below

@@ -59,6 +59,11 @@ bool faces_meet_mesh(const Mesh& mesh, const std::vector<Mesh::FaceHandle>& face
 // from outside). Meaningless for open meshes.
 double enclosed_volume(const Mesh& mesh);
 
+// The mean length of the mesh's edges (deleted ones skipped when it has
+// edge status, yet counted in the divisor as n_edges() counts them), mm; 0
+// without edges. The length scale of the grids and tolerances built on it.
+double mean_edge_length(const Mesh& mesh);
+
 // Sum of triangle areas.
 double surface_area(const Mesh& mesh);
 
