@@ -260,8 +260,6 @@ double height_above_quadric(const Mesh& mesh, Mesh::VertexHandle v, const Vec3& 
 // high-frequency stair-steps uncorrected (measured: worse on every phantom).
 constexpr int kOffsetSmoothing = 1;
 
-constexpr double kStill = 1e-2;  // voxels
-
 struct Sample {
   Vec3 point;
   double weight;  // how far the sample moves when the vertex moves by one
@@ -291,10 +289,8 @@ FitResult fit_to_threshold(Mesh& mesh, const Volume& volume, double threshold, c
   std::vector<double> own(mesh.n_vertices(), 0.0);  // the vertex's own crossing distance (NaN: none)
   // Only vertices near a move are evaluated again: the rest already fit.
   std::vector<char> active(mesh.n_vertices(), 1), moved(mesh.n_vertices(), 0);
-  // A move shorter than this is not made (measured: a hundredth of a voxel
-  // changes no accuracy figure, and the guard's checks of the many tiny
-  // moves of the last passes were most of the fit's time).
-  const double still = kStill * voxel;
+  // A move shorter than this is not made (FitOptions::still).
+  const double still = std::max(0.0, o.still) * voxel;
   // The pass's moves: the vertices, each one's target, and whether it has one.
   std::vector<int> movers;
   std::vector<Vec3> goal(mesh.n_vertices(), Vec3::Zero());

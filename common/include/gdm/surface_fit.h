@@ -24,7 +24,10 @@ std::optional<double> find_crossing(const Volume& volume, double threshold, cons
 
 struct FitOptions {
   int passes = 8;               // sweeps over the vertices (normals re-estimated each sweep); stops
-                                // early when a sweep moves no vertex by a hundredth of a voxel
+                                // early when a sweep moves no vertex by `still`
+  double still = 0.01;          // voxels, >= 0: a move shorter than this is not made (the guard's checks
+                                // of the last passes' many tiny moves were most of the fit's time); the
+                                // face budget's last fit takes less on a clean image (deformer.cpp)
   double max_distance = 1.0;    // a vertex ends at most this far from where the fit found it, voxels
   double search = 1.5;          // crossings are searched this far along the normal, voxels
   int normal_rings = 2;         // rings of faces averaged into the fit direction (section 7)
@@ -58,7 +61,7 @@ struct FitResult {
 // vertex's own part given back in proportion to how far it stands above
 // options.noise (Wiener-like) and drawn toward the quadric over its 2-ring
 // where its height above it is within what the noise explains, then applied
-// one at a time (moves under a hundredth of a voxel skipped), each checked
+// one at a time (moves under options.still skipped), each checked
 // by the IntersectionGuard (a refused move is retried at half and a quarter
 // length) and kept inside the grid: in vertex order, or, in a pass of at
 // least kFitMovesByCubes moves, by cubes of space (space_blocks.h), the same
