@@ -188,9 +188,8 @@ TEST(SubvoxelFit, removes_the_shortfall_and_the_inward_bias) {
 
 // FitOptions::still: on a clean image the fit's last moves are a few
 // thousandths of a voxel, and making them brings the faces closer to the
-// surface (the face budget's last fit takes a tenth of the noise, at least
-// 0.0025 voxel: deformer.cpp). The same deformed clean sphere fitted with the usual
-// hundredth and with 0.0025.
+// surface (README, stop 51: on the real scans they did not). The same
+// deformed clean sphere fitted with the usual hundredth and with 0.0025.
 TEST(SubvoxelFit, a_smaller_still_fits_a_clean_sphere_closer) {
   ph::Grid grid;
   const auto sdf = ph::sphere(grid.center(), 20.0);

@@ -216,10 +216,6 @@ constexpr double kPileUpEdge = 0.1;
 // The fine fit's bound beyond the coarse faces' sagitta, voxels
 // (subdivision_fit_bounds; measured on the study's salt-and-pepper ellipsoid).
 constexpr double kBudgetBoundFloor = 0.05;
-// The face budget's fits skip a move below this share of the crossings'
-// noise, and below kBudgetMinStill voxels (budget_still).
-constexpr double kBudgetStillPerNoise = 0.1;
-constexpr double kBudgetMinStill = 0.0025;
 
 }  // namespace
 
@@ -342,7 +338,6 @@ class Deformer {
   void refine_for_budget(int cycle, const FitOptions& fit, std::vector<Vec3>& origin, DeformResult& result);
   void reduce_to_budget(const FitOptions& fit, DeformResult& result);
   void sharpen_edges(const FitOptions& fit, DeformResult& result);
-  double budget_still(const FitOptions& fit) const;
   void use_image_noise(FitOptions& fit) const;
   void settle_budget(DeformResult& result);
 
@@ -1297,25 +1292,6 @@ void Deformer::finish(int cycle, DeformResult& result) {
 // to 24 % closer to the truth (ellipsoid on 1 x 1 x 2 mm voxels at 10 %:
 // 0.0745 -> 0.0564 voxel), none farther; clean phantoms and the real scans
 // of ../shared/data keep their models.
-// Beyond the paper (issue 16): with a face budget every face counts, and on
-// a clean image the fit's last moves are a few thousandths of a voxel: the
-// last fit (after the reduction) skips a move only below a tenth of the
-// crossings' noise (at least kBudgetMinStill voxels, at most the fit's usual
-// hundredth). Measured with `gdm_benchmark_study --faces-sweep --threads 2`
-// (README, stop 51), mean distance at 10 % of marching cubes' faces: clean
-// sphere 0.0356 -> 0.0314 voxel (the chain 0.0309), clean ellipsoid on
-// 1 x 1 x 2 mm voxels 0.0538 -> 0.0499 (0.0552), clean cube 0.0130 ->
-// 0.0099; every Gaussian-noise phantom the same model as before (a tenth of
-// its noise is above the hundredth); run times within the machine's spread.
-// Every fit of the budget at the finer step gained a little more (sphere
-// 0.0299) but put a crease on the clean C tube (test_creases.cpp: smooth
-// shapes get none). Outside the budget the hundredth stays: on the
-// benchmark's clean cube every fit at the finer step took 40 % longer.
-double Deformer::budget_still(const FitOptions& fit) const {
-  if (!(fit.noise > 0.0)) return fit.still;
-  return std::clamp(kBudgetStillPerNoise * fit.noise / voxel_, kBudgetMinStill, fit.still);
-}
-
 void Deformer::use_image_noise(FitOptions& fit) const {
   Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
   for (auto v : mesh_.vertices()) {
@@ -1404,9 +1380,7 @@ void Deformer::reduce_to_budget(const FitOptions& fit, DeformResult& result) {
   r.noise = fit.noise;
   result.budget_collapses += reduce_to_faces(mesh_, r).collapses;
   std::vector<Vec3> origin;  // anchored where the reduction left the vertices
-  FitOptions last = fit;
-  last.still = budget_still(fit);
-  result.fit_moves += fit_to_threshold(mesh_, volume_, o_.threshold, last, origin).moves;
+  result.fit_moves += fit_to_threshold(mesh_, volume_, o_.threshold, fit, origin).moves;
   sharpen_edges(fit, result);
 }
 
