@@ -26,8 +26,8 @@ struct FitOptions {
   int passes = 8;               // sweeps over the vertices (normals re-estimated each sweep); stops
                                 // early when a sweep moves no vertex by `still`
   double still = 0.01;          // voxels, >= 0: a move shorter than this is not made (the guard's checks
-                                // of the last passes' many tiny moves were most of the fit's time; less
-                                // fits a clean image closer, at more moves: README, stop 51)
+                                // of the last passes' many tiny moves were most of the fit's time); a
+                                // smaller one fits a clean image closer, with more moves (README, stop 51)
   double max_distance = 1.0;    // a vertex ends at most this far from where the fit found it, voxels
   double search = 1.5;          // crossings are searched this far along the normal, voxels
   int normal_rings = 2;         // rings of faces averaged into the fit direction (section 7)
