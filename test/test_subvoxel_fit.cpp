@@ -209,7 +209,7 @@ TEST(SubvoxelFit, a_smaller_still_fits_a_clean_sphere_closer) {
     std::vector<Vec3> origin;
     moves[k] = fit_to_threshold(mesh, volume, kThreshold, fit, origin).moves;
     test::expect_valid_closed_surface(mesh);
-    mean[k] = test::surface_distances(mesh, [&](const Vec3& p) { return std::abs(sdf(p)); }, voxel).mean;
+    mean[k] = test::surface_distances(mesh, sdf, voxel).mean;
   }
   std::printf("noise %.4f voxel; still 0.01: mean %.4f voxel, %zu moves; still 0.0025: mean %.4f voxel, %zu moves\n",
               fit.noise / voxel, mean[0], moves[0], mean[1], moves[1]);
