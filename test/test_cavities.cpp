@@ -14,6 +14,8 @@
 
 #include "gdm/cavities.h"
 #include "gdm/deformer.h"
+#include "gdm/errors.h"
+#include "gdm/mesh_checks.h"
 #include "gdm/mesh_io.h"
 #include "gdm/phantoms.h"
 #include "gdm/pipeline.h"
@@ -323,6 +325,105 @@ INSTANTIATE_TEST_SUITE_P(TorusAndDoubleTorus, Handles, ::testing::Combine(::test
                            return std::string(std::get<0>(info.param) == 1 ? "torus" : "double_torus") + "_noise" +
                                   std::to_string(std::get<1>(info.param));
                          });
+
+// A handle whose body is thin in one place (stop 52): a thick U (a base and
+// two arms, 8 x 12 voxels across) whose tips a rod of radius 2 joins, so the
+// loop round the U's hole is thinnest in the rod. handle_repair cut parts the
+// rod there: one cut, in the rod, about as wide as it; the model is genus 0,
+// the object's surface (the hole followed: no vertex in its middle, the
+// volume the object's), where the membrane closes the hole (vertices in its
+// middle, the volume the object's and the hole's). Noise 3 and 10 % of the
+// contrast.
+class HandleCut : public ::testing::TestWithParam<int> {};
+
+TEST_P(HandleCut, a_cut_parts_the_handle_where_its_body_is_thinnest) {
+  const int noise_percent = GetParam();
+  ph::Grid grid;
+  grid.dims = {48, 42, 24};
+  const Vec3 rod_a(12.0, 30.0, 12.0), rod_b(36.0, 30.0, 12.0);
+  const double rod_radius = 2.0;
+  const ph::Sdf u = ph::unite({ph::box(Vec3(8, 8, 6), Vec3(40, 16, 18)), ph::box(Vec3(8, 8, 6), Vec3(16, 33, 18)),
+                               ph::box(Vec3(32, 8, 6), Vec3(40, 33, 18)), ph::capsule(rod_a, rod_b, rod_radius)});
+  const Volume v = ph::with_gaussian_noise(ph::voxelize(grid, u, kLow, kHigh - kLow), 0.01 * noise_percent * (kHigh - kLow),
+                                           90u + static_cast<unsigned>(noise_percent));
+  double object_volume = 0.0;  // by 4^3 samples per voxel
+  for (int z = 0; z < grid.dims[2] * 4; ++z)
+    for (int y = 0; y < grid.dims[1] * 4; ++y)
+      for (int x = 0; x < grid.dims[0] * 4; ++x)
+        object_volume += u(Vec3((x + 0.5) / 4.0 - 0.5, (y + 0.5) / 4.0 - 0.5, (z + 0.5) / 4.0 - 0.5)) < 0.0 ? 1.0 / 64.0 : 0.0;
+  const Vec3 seed(12.0, 12.0, 12.0);  // in the base's corner
+  const auto in_the_hole = [](const Vec3& p) {
+    return p.x() > 19.0 && p.x() < 29.0 && p.y() > 19.0 && p.y() < 25.0 && p.z() > 8.0 && p.z() < 16.0;
+  };
+  const auto run = [&](HandleRepair repair, CavityFill& fill) {
+    DeformOptions o = grow();
+    o.handle_repair = repair;
+    Mesh mesh = make_geodesic_sphere(seed, 1.5, 1);
+    fill = cavity_fill_for(mesh, v, o);
+    const DeformResult r = deform(mesh, v, o);
+    EXPECT_EQ(r.reason, StopReason::converged) << to_string(r.reason);
+    EXPECT_EQ(r.handles, 1u) << handle_summary(r);
+    EXPECT_EQ(r.handle_repair, repair);
+    test::expect_valid_closed_surface(mesh);
+    return mesh;
+  };
+
+  CavityFill cut_fill, membrane_fill;
+  const Mesh cut = run(HandleRepair::cut, cut_fill);
+  const Mesh membrane = run(HandleRepair::membrane, membrane_fill);
+  std::vector<Cavity> cuts;
+  for (const Cavity& c : cut_fill.cavities)
+    if (c.kind == CavityKind::cut && c.voxels >= kCavitySpeckVoxels) cuts.push_back(c);
+  ASSERT_EQ(cuts.size(), 1u);
+  const Cavity& c = cuts.front();
+  std::printf("noise %d %%: cut at (%.1f, %.1f, %.1f), %zu voxels, the body %.2f voxels across; membrane %zu voxels\n",
+              noise_percent, c.centre.x(), c.centre.y(), c.centre.z(), c.voxels, c.width, membrane_fill.voxels);
+  EXPECT_GT(c.centre.x(), rod_a.x() + 4.0);  // between the arms
+  EXPECT_LT(c.centre.x(), rod_b.x() - 4.0);
+  EXPECT_NEAR(c.centre.y(), rod_a.y(), 1.5) << "the cut is not in the rod";
+  EXPECT_NEAR(c.centre.z(), rod_a.z(), 1.5) << "the cut is not in the rod";
+  EXPECT_LE(c.width, 2.0 * rod_radius + 1.5) << "the cut is wider than the rod";
+  EXPECT_GE(cut_fill.cut_voxels, c.voxels);  // and the noise's specks
+  EXPECT_LT(c.voxels, membrane_fill.voxels / 10) << "a cut through the rod is far smaller than a membrane across the hole";
+
+  std::size_t cut_in_hole = 0, membrane_in_hole = 0;
+  for (auto w : cut.vertices()) cut_in_hole += in_the_hole(to_eigen(cut.point(w)));
+  for (auto w : membrane.vertices()) membrane_in_hole += in_the_hole(to_eigen(membrane.point(w)));
+  EXPECT_EQ(cut_in_hole, 0u) << "the cut model should follow the hole, not close it";
+  EXPECT_GT(membrane_in_hole, 0u) << "the membrane should close the hole";
+  const double cut_volume = enclosed_volume(cut), membrane_volume = enclosed_volume(membrane);
+  std::printf("  volumes: object %.0f, cut model %.0f, membrane model %.0f voxels\n", object_volume, cut_volume,
+              membrane_volume);
+  EXPECT_NEAR(cut_volume, object_volume, 0.04 * object_volume);
+  EXPECT_GT(membrane_volume, object_volume + 0.5 * 10.0 * 16.0 * 12.0) << "the membrane fills the hole";
+  // Away from the cut the model is the object's surface.
+  const ph::DistanceStats away = ph::vertex_distances(cut, u, v.voxel_size(), [&](const Vec3& p) {
+    return (p - c.centre).norm() > 2.0 * rod_radius + 2.0;
+  });
+  std::printf("  away from the cut: mean %.3f p95 %.3f max %.3f voxels; contacts %.1f mm^2\n", away.mean, away.p95,
+              away.max, contact_area(cut, v.voxel_size()));
+  EXPECT_LE(away.mean, 0.15);
+}
+
+INSTANTIATE_TEST_SUITE_P(Noise, HandleCut, ::testing::Values(3, 10),
+                         [](const auto& info) { return "noise" + std::to_string(info.param); });
+
+// handle_repair cut is for a growing model of the solid topology: a
+// shrinking model, and the exact topology's tubes, go through membranes.
+TEST(Cavities, a_cut_needs_a_growing_solid_model) {
+  ph::Grid grid;
+  grid.dims = {24, 24, 24};
+  const Volume v = shell(grid, 5.0, 9.0, 0.0, 0.03, 7u);
+  DeformOptions o = grow();
+  o.handle_repair = HandleRepair::cut;
+  o.mode = Mode::shrink;
+  Mesh around = make_geodesic_sphere(grid.center(), 11.0, 2);
+  EXPECT_THROW(deform(around, v, o), InvalidOption);
+  o.mode = Mode::grow;
+  o.topology = Topology::exact;
+  Mesh inside = make_geodesic_sphere(grid.center() + Vec3(7.0, 0, 0), 1.0, 1);
+  EXPECT_THROW(deform(inside, v, o), InvalidOption);
+}
 
 // Issue 17: the handle growth is skipped when the seed's object, with what
 // is filled, has no handle (voxel_topology.h). The fill must be the same as

@@ -20,9 +20,12 @@ std::string to_string(CavityKind kind) {
     case CavityKind::enclosed: return "enclosed";
     case CavityKind::narrow_openings: return "narrow_openings";
     case CavityKind::handle: return "handle";
+    case CavityKind::cut: return "cut";
   }
   return "unknown";
 }
+
+std::string to_string(HandleRepair repair) { return repair == HandleRepair::cut ? "cut" : "membrane"; }
 
 double cavity_opening_width(const CavityOptions& o, const Volume& volume) {
   const double opening = o.opening > 0.0 ? o.opening : 3.0 * volume.voxel_size();
@@ -83,6 +86,33 @@ struct Grid {
   }
 };
 
+// The order of a topology-preserving growth (cap_handles, cut_handles): the
+// largest distance first. Distances between voxel centres tie in plateaus
+// (at a hole's waist, for a voxel or two either side); ties broken by the
+// index would let the front from one side take the whole plateau and put
+// the membrane (or cut) at its far edge, so they are broken by a hash of the
+// index: fixed (the same result every run), without a preferred direction.
+// The key: the distance's bits (a non-negative float orders as its bits)
+// above 32 bits of the hash; the index settles what is left.
+std::uint64_t growth_key(float d2, std::size_t c) {
+  std::uint64_t z = static_cast<std::uint64_t>(c) + 0x9e3779b97f4a7c15ull;  // splitmix64's finaliser
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+  z ^= z >> 31;
+  std::uint32_t bits = 0;
+  std::memcpy(&bits, &d2, sizeof bits);
+  return (static_cast<std::uint64_t>(bits) << 32) | (z & 0xffffffffull);
+}
+
+// Index offsets of the 27 voxels of a 3 x 3 x 3 neighbourhood (slot (dx + 1)
+// + 3 (dy + 1) + 9 (dz + 1)) in a grid of n voxels, x fastest.
+std::array<std::ptrdiff_t, 27> neighbour_offsets(const Index3& n) {
+  const std::ptrdiff_t sx = 1, sy = n[0], sz = static_cast<std::ptrdiff_t>(n[0]) * n[1];
+  std::array<std::ptrdiff_t, 27> offset{};
+  for (int s = 0; s < 27; ++s) offset[static_cast<std::size_t>(s)] = (s % 3 - 1) * sx + ((s / 3) % 3 - 1) * sy + (s / 9 - 1) * sz;
+  return offset;
+}
+
 // The 3 x 3 x 3 neighbourhood of a voxel as 27 bits, slot (dx + 1) + 3 (dy +
 // 1) + 9 (dz + 1); the centre is slot 13. The masks the simple-point test
 // walks with.
@@ -138,6 +168,14 @@ struct Neighbourhood {
   bool simple(std::uint32_t reached) const {
     return components(reached & n18, adjacent6, faces) == 1 && components(~reached & n26, adjacent26, n26) == 1;
   }
+
+  // The same for the object grown from inside (cut_handles), whose
+  // neighbours in the reached object are `reached`: one 26-component of the
+  // reached object in its 26-neighbourhood, and one 6-component of the rest
+  // in its 18-neighbourhood 6-adjacent to it.
+  bool simple_for_object(std::uint32_t reached) const {
+    return components(reached & n26, adjacent26, n26) == 1 && components(~reached & n18, adjacent6, faces) == 1;
+  }
 };
 
 // What a voxel of the working box is.
@@ -169,6 +207,8 @@ class CavityFinder {
   void fill_pockets(const std::vector<char>& reached, const std::vector<char>& by_path, const std::vector<float>& d2,
                     bool balls, CavityFill& fill);
   void cap_handles(CavityFill& fill);
+  void cut_handles(CavityFill& fill);
+  void widen_cut(const std::vector<char>& solid, std::vector<std::size_t>& members);
   bool has_handles() const;
   void seal_pockets(CavityFill& fill);
   Cavity describe(const std::vector<std::size_t>& members, CavityKind kind) const;
@@ -191,6 +231,7 @@ class CavityFinder {
   Grid box_{{0, 0, 0}};
   std::vector<char> kind_;  // kObject, kBackground, kOther, kOutside
   std::vector<char> fill_;  // filled (background given to the object)
+  std::vector<char> cut_;   // cut (object given to the background; empty: none)
   std::vector<char> scratch_;  // zero between uses
 };
 
@@ -455,28 +496,13 @@ void CavityFinder::cap_handles(CavityFill& fill) {
     if (kind_[c] == kObject || fill_[c]) return;
     at[c].state = outside_or_border(c, v) ? kReached : kFree;
   });
-  // Largest distance first. Distances between voxel centres tie in plateaus
-  // (at a hole's waist, for a voxel or two either side); ties broken by the
-  // index would let the front from one side take the whole plateau and put
-  // the membrane at its far edge, so they are broken by a hash of the index:
-  // fixed (the same result every run), without a preferred direction.
-  // The key: the distance's bits (a non-negative float orders as its bits)
-  // above 32 bits of the hash; the index settles what is left.
-  const auto key = [&](std::size_t c) {
-    std::uint64_t z = static_cast<std::uint64_t>(c) + 0x9e3779b97f4a7c15ull;  // splitmix64's finaliser
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    z ^= z >> 31;
-    std::uint32_t bits = 0;
-    std::memcpy(&bits, &at[c].d2, sizeof bits);
-    return (static_cast<std::uint64_t>(bits) << 32) | (z & 0xffffffffull);
-  };
+  // Largest distance first (growth_key).
+  const auto key = [&](std::size_t c) { return growth_key(at[c].d2, c); };
   using Entry = std::pair<std::uint64_t, std::size_t>;
   std::priority_queue<Entry> queue;  // the largest key first
   const Index3& n = box_.n;
   const std::ptrdiff_t sx = 1, sy = n[0], sz = static_cast<std::ptrdiff_t>(n[0]) * n[1];
-  std::array<std::ptrdiff_t, 27> offset{};
-  for (int s = 0; s < 27; ++s) offset[static_cast<std::size_t>(s)] = (s % 3 - 1) * sx + ((s / 3) % 3 - 1) * sy + (s / 9 - 1) * sz;
+  const std::array<std::ptrdiff_t, 27> offset = neighbour_offsets(n);
   // Every free voxel is interior (those on the box's border start reached):
   // its 26 neighbours are in the box, a fixed index offset away.
   // Queues the free 26-neighbours of c: their simplicity may have changed.
@@ -579,6 +605,120 @@ void CavityFinder::cap_handles(CavityFill& fill) {
   if (!thick.empty()) seal_pockets(fill);
 }
 
+// How far (voxels of the finest spacing, each side) a cut is widened: a cut
+// one voxel thin leaves the model's two sheets there a voxel apart, closer
+// than the report's contact distance and than a 1-to-4 resampling keeps
+// apart (measured on the CT series: the global refinement refused).
+constexpr double kCutHalfWidth = 1.0;
+
+// The object within kCutHalfWidth of the cut's voxels `members` (ellipsoidal
+// reach on an anisotropic grid) joins the cut: appended to `members`.
+void CavityFinder::widen_cut(const std::vector<char>& solid, std::vector<std::size_t>& members) {
+  const Vec3& h = volume_.spacing();
+  const double t = kCutHalfWidth * volume_.voxel_size();
+  Index3 reach;
+  for (int a = 0; a < 3; ++a) reach[a] = static_cast<int>(std::floor(t / h[a] + 1e-9));
+  const Index3& n = box_.n;
+  const std::size_t core = members.size();
+  for (std::size_t k = 0; k < core; ++k) {
+    const std::size_t c = members[k];
+    const Index3 v = box_.voxel(c);
+    for (int dz = -reach[2]; dz <= reach[2]; ++dz)
+      for (int dy = -reach[1]; dy <= reach[1]; ++dy)
+        for (int dx = -reach[0]; dx <= reach[0]; ++dx) {
+          if ((dx * h[0]) * (dx * h[0]) + (dy * h[1]) * (dy * h[1]) + (dz * h[2]) * (dz * h[2]) > t * t * (1.0 + 1e-9)) continue;
+          const Index3 u{v[0] + dx, v[1] + dy, v[2] + dz};
+          if (u[0] < 1 || u[1] < 1 || u[2] < 1 || u[0] >= n[0] - 1 || u[1] >= n[1] - 1 || u[2] >= n[2] - 1) continue;
+          const std::size_t ui = box_.index(u[0], u[1], u[2]);
+          if (!solid[ui] || cut_[ui]) continue;
+          cut_[ui] = 1;
+          members.push_back(ui);
+        }
+  }
+}
+
+// The dual of cap_handles (handle_repair cut): the seed's object with what
+// is filled, grown from its deepest voxel by simple points (26 / 6), the
+// deepest first (growth_key on the distance to the background); what it
+// cannot take is a cut across a handle's body at its thinnest place (the
+// last place the deepest-first growth reaches from both sides), given to the
+// background. The reached object keeps the topology of a ball: no handle is
+// left, and no pocket is closed (every cut voxel touches the background).
+// Each 26-connected group of cut voxels is reported as a cut.
+void CavityFinder::cut_handles(CavityFill& fill) {
+  enum : char { kFixed = 0, kFree = 1, kQueued = 2, kReached = 3 };
+  std::vector<char> solid(box_.count(), 0), open(box_.count(), 0);
+  for (std::size_t c = 0; c < box_.count(); ++c) {
+    solid[c] = kind_[c] == kObject || fill_[c];
+    open[c] = !solid[c];
+  }
+  const std::vector<float> d2 = squared_distance(open);
+  // Every object voxel lies inside the box's margin, so its 26 neighbours
+  // are in the box, a fixed index offset away.
+  std::vector<char> state(box_.count(), kFixed);
+  std::size_t start = box_.count();
+  box_.for_each_voxel([&](std::size_t c, const Index3& v) {
+    if (!solid[c] || box_.on_border(v)) return;
+    state[c] = kFree;
+    if (start == box_.count() || d2[c] > d2[start]) start = c;
+  });
+  if (start == box_.count()) return;
+  using Entry = std::pair<std::uint64_t, std::size_t>;
+  std::priority_queue<Entry> queue;  // the largest key first
+  const std::array<std::ptrdiff_t, 27> offset = neighbour_offsets(box_.n);
+  const auto neighbour = [&](std::size_t c, int s) {
+    return static_cast<std::size_t>(static_cast<std::ptrdiff_t>(c) + offset[static_cast<std::size_t>(s)]);
+  };
+  // Takes c and queues its free 26-neighbours: their simplicity may have changed.
+  const auto take = [&](std::size_t c) {
+    state[c] = kReached;
+    for (int s = 0; s < 27; ++s) {
+      const std::size_t m = neighbour(c, s);
+      if (state[m] != kFree) continue;
+      state[m] = kQueued;
+      queue.push({growth_key(d2[m], m), m});
+    }
+  };
+  take(start);
+  const Neighbourhood hood;
+  while (!queue.empty()) {
+    const std::size_t c = queue.top().second;
+    queue.pop();
+    state[c] = kFree;
+    std::uint32_t reached = 0;
+    for (int s = 0; s < 27; ++s)
+      if (state[neighbour(c, s)] == kReached) reached |= 1u << s;
+    if (hood.simple_for_object(reached)) take(c);
+  }
+  // The cuts: object left free (never taken), in 26-connected groups; each
+  // but a speck of noise widened by kCutHalfWidth on either side.
+  cut_.assign(box_.count(), 0);
+  for (std::size_t c = 0; c < box_.count(); ++c) cut_[c] = state[c] == kFree;
+  std::vector<char> seen(box_.count(), 0);
+  std::vector<std::size_t> members;
+  for (std::size_t c = 0; c < box_.count(); ++c) {
+    if (state[c] != kFree || seen[c]) continue;
+    seen[c] = 1;
+    members.assign(1, c);
+    float thickest = 0.0f;
+    for (std::size_t q = 0; q < members.size(); ++q) {
+      thickest = std::max(thickest, d2[members[q]]);
+      for (int s = 0; s < 27; ++s) {
+        const std::size_t m = neighbour(members[q], s);
+        if (state[m] != kFree || seen[m]) continue;
+        seen[m] = 1;
+        members.push_back(m);
+      }
+    }
+    if (members.size() >= kCavitySpeckVoxels) widen_cut(solid, members);
+    Cavity cut = describe(members, CavityKind::cut);
+    cut.openings = 1;
+    cut.opening_centre = cut.centre;
+    cut.width = 2.0 * std::sqrt(static_cast<double>(thickest));
+    fill.cavities.push_back(cut);
+  }
+}
+
 // Whether the seed's object with what is filled so far has a handle. The
 // growth takes a voxel only when that keeps the topology of both sides, and
 // what it cannot take is left as a membrane across a handle's hole; on a
@@ -613,11 +753,14 @@ void CavityFinder::seal_pockets(CavityFill& fill) {
 Volume CavityFinder::filled() const {
   std::vector<float> values = volume_.values();
   const double least = 1e-3 * (volume_.max_value() - volume_.min_value());
+  // Filled voxels mirrored to the object's side of T, cut ones to the background's.
   for (std::size_t b = 0; b < box_.count(); ++b) {
-    if (!fill_[b]) continue;
+    const bool cut = !cut_.empty() && cut_[b];
+    if (!fill_[b] && !cut) continue;
     const Index3 v = box_.voxel(b);
     const std::size_t c = full_.index(v[0] + lo_[0], v[1] + lo_[1], v[2] + lo_[2]);
-    values[c] = static_cast<float>(o_.threshold - sign_ * std::max(std::abs(values[c] - o_.threshold), least));
+    const double side = cut ? sign_ : -sign_;
+    values[c] = static_cast<float>(o_.threshold + side * std::max(std::abs(values[c] - o_.threshold), least));
   }
   Volume out(full_.n, std::move(values), volume_.spacing(), volume_.origin(), volume_.direction());
   out.set_outside_value(volume_.outside_value());
@@ -649,12 +792,15 @@ CavityFill CavityFinder::run() {
   }
   if (o_.cap_handles && (!o_.skip_growth_without_handles || has_handles())) {
     fill.grew = true;
-    cap_handles(fill);
+    if (o_.handle_repair == HandleRepair::cut)
+      cut_handles(fill);
+    else
+      cap_handles(fill);
   }
   std::stable_sort(fill.cavities.begin(), fill.cavities.end(),
                    [](const Cavity& a, const Cavity& b) { return a.voxels > b.voxels; });
-  for (const Cavity& c : fill.cavities) fill.voxels += c.voxels;
-  if (fill.voxels == 0) return fill;
+  for (const Cavity& c : fill.cavities) (c.kind == CavityKind::cut ? fill.cut_voxels : fill.voxels) += c.voxels;
+  if (fill.voxels == 0 && fill.cut_voxels == 0) return fill;
   fill.volume = filled();
   fill.applied = true;
   return fill;

@@ -99,14 +99,16 @@ std::string cavity_summary(const DeformResult& r) {
 std::string handle_summary(const DeformResult& r) {
   if (r.handles == 0) return {};
   std::ostringstream s;
-  s << "handles: " << r.handles << " capped by a membrane across the hole at its narrowest place (" << r.handle_voxels
-    << " voxels; the model stays genus 0)";
+  const bool cut = r.handle_repair == HandleRepair::cut;
+  s << "handles: " << r.handles
+    << (cut ? " cut across the body at its thinnest place (" : " capped by a membrane across the hole at its narrowest place (")
+    << r.handle_voxels << " voxels; the model stays genus 0)";
   std::size_t listed = 0;
   for (const Cavity& c : r.filled_regions) {
-    if (c.kind != CavityKind::handle || listed == kRegionsNamed) continue;
+    if ((c.kind != CavityKind::handle && c.kind != CavityKind::cut) || listed == kRegionsNamed) continue;
     ++listed;
-    s << "; at " << point_text(c.centre) << ", the hole " << format_number(c.width, 3) << " mm across, " << c.voxels
-      << " voxels";
+    s << "; at " << point_text(c.centre) << (cut ? ", the body " : ", the hole ") << format_number(c.width, 3)
+      << " mm across, " << c.voxels << " voxels";
   }
   more_regions(s, listed, r.handles);
   return s.str();
@@ -240,6 +242,9 @@ void validate(const DeformOptions& o, const Volume& volume) {
 
   require(o.topology == Topology::solid || o.fill_cavities,
           "topology exact needs fill_cavities on (the cavities it models are those the fill finds)");
+  require(o.handle_repair == HandleRepair::membrane || (o.mode == Mode::grow && o.topology == Topology::solid),
+          "handle_repair cut needs mode grow and topology solid (a shrinking model, and the exact topology's "
+          "tubes, go through the membranes)");
 
   if (volume.voxel_count() == 0) throw InvalidVolume("the volume is empty");
   if (!(volume.max_value() > volume.min_value()))
@@ -1848,6 +1853,7 @@ CavityFill cavities_for(const Mesh& mesh, const Volume& volume, const DeformOpti
   c.gap = o.gap;
   c.opening = o.cavity_opening;
   c.cap_handles = o.cap_handles;
+  c.handle_repair = o.handle_repair;
   c.threads = o.threads;
   // A membrane the model's faces enter as fast as the handle's tube: at
   // least 3.5 voxels each side (cavities.cpp), more for faces larger than the
@@ -2026,6 +2032,7 @@ DeformResult deform(Mesh& mesh, const Volume& volume, const DeformOptions& reque
     result = Deformer(mesh, grow_in, volume, options, observer).run(coarse.cycles);
   result.coarse_levels = coarse.levels;
   result.coarse_cycles = coarse.cycles;
+  result.handle_repair = options.handle_repair;
   result.seconds.growth += coarse_seconds;
   result.seconds.gap_gate = gate_seconds;
   result.seconds.cavity_fill = fill_seconds;
@@ -2039,7 +2046,7 @@ DeformResult deform(Mesh& mesh, const Volume& volume, const DeformOptions& reque
       continue;
     }
     result.filled_regions.push_back(c);
-    if (c.kind == CavityKind::handle) {
+    if (c.kind == CavityKind::handle || c.kind == CavityKind::cut) {
       ++result.handles;
       result.handle_voxels += c.voxels;
       continue;

@@ -140,6 +140,7 @@ std::string filled_regions_json(const gdm::DeformResult& d) {
     if (c.kind == gdm::CavityKind::narrow_openings)
       region.add("openings", json_number(c.openings)).add("largest_opening_mm", point(c.opening_centre));
     if (c.kind == gdm::CavityKind::handle) region.add("hole_width_mm", json_number(c.width));
+    if (c.kind == gdm::CavityKind::cut) region.add("body_width_mm", json_number(c.width));
     list += (i ? ", " : "") + region.str(0);
   }
   return list + "]";
@@ -220,6 +221,7 @@ std::string report_json(const RunRecord& r, const Options& options) {
       .add("cavity_opening_mm", json_number(r.model.cavity_opening_width))
       .add("handles", json_number(r.model.handles))
       .add("handle_voxels", json_number(r.model.handle_voxels))
+      .add("handle_repair", json_string(gdm::to_string(r.model.handle_repair)))
       .add("topology", json_string(gdm::to_string(r.model.topology)))
       .add("handles_opened", json_number(r.model.handles_opened))
       .add("cavity_components", json_number(r.model.cavity_components))

@@ -378,21 +378,31 @@ public:
   void
   SetTopology(const std::string & topology)
   {
-    const auto & names = this->TopologyNames();
-    for (std::size_t i = 0; i < names.size(); ++i)
-    {
-      if (names[i] == topology)
-      {
-        this->SetOption("topology", static_cast<double>(i));
-        return;
-      }
-    }
-    itkExceptionMacro(<< "topology must be solid or exact, got " << topology);
+    this->SetChoice("topology", topology);
   }
   std::string
   GetTopology() const
   {
-    return this->TopologyNames().at(static_cast<std::size_t>(this->GetOption("topology")));
+    return this->GetChoice("topology");
+  }
+
+  /** How each handle is removed (with FillCavities and
+   * SetOption("cap_handles", 1), growing, topology "solid"): "membrane"
+   * (default: background across the hole given to the object where the hole
+   * is narrowest; the model closes the hole) or "cut" (object across the
+   * handle's body given to the background where the body is thinnest; the
+   * model follows the hole and parts at the cut). GetNumberOfCappedHandles()
+   * counts the handles either way. Throws itk::ExceptionObject for another
+   * name. */
+  void
+  SetHandleRepair(const std::string & repair)
+  {
+    this->SetChoice("handle_repair", repair);
+  }
+  std::string
+  GetHandleRepair() const
+  {
+    return this->GetChoice("handle_repair");
   }
 
   /** Sub-voxel final fit onto the threshold crossing (beyond the paper). */
@@ -544,19 +554,45 @@ public:
   GetOption(const std::string & name) const;
 
 protected:
-  /** The topology option's names, by value (the catalogue's). */
+  /** The names of a choice option, by value (the catalogue's). */
   static const std::vector<std::string> &
-  TopologyNames()
+  ChoiceNames(const std::string & name)
   {
     for (const auto & option : gdm::deform_option_catalogue())
     {
-      if (option.name == "topology")
+      if (option.name == name)
       {
         return option.choices;
       }
     }
     static const std::vector<std::string> none;
     return none;
+  }
+
+  /** A choice option set by one of its names; throws for another name. */
+  void
+  SetChoice(const std::string & name, const std::string & value)
+  {
+    const auto & names = ChoiceNames(name);
+    for (std::size_t i = 0; i < names.size(); ++i)
+    {
+      if (names[i] == value)
+      {
+        this->SetOption(name, static_cast<double>(i));
+        return;
+      }
+    }
+    std::string known;
+    for (const auto & n : names)
+    {
+      known += (known.empty() ? "" : " or ") + n;
+    }
+    itkExceptionMacro(<< name << " must be " << known << ", got " << value);
+  }
+  std::string
+  GetChoice(const std::string & name) const
+  {
+    return ChoiceNames(name).at(static_cast<std::size_t>(this->GetOption(name)));
   }
 
   GeometricallyDeformedModelImageToMeshFilter();

@@ -417,4 +417,23 @@ TEST(itkGDMSphere, AHandleIsCappedAcrossItsHole)
   EXPECT_EQ(exact->GetNumberOfComponents(), 1u);
   EXPECT_EQ(exact->GetNumberOfCavityComponents(), 0u);
   EXPECT_THROW(exact->SetTopology("porous"), itk::ExceptionObject);
+  // Cut instead of capped: the handle is parted across its tube (stop 52):
+  // still one handle removed, genus 0, and the model meets itself nowhere.
+  auto cut = FilterType::New();
+  cut->SetInput(image);
+  cut->SetThreshold(125.0);
+  FilterType::PointType seed;
+  seed[0] = c;
+  seed[1] = c - R;
+  seed[2] = cz;
+  cut->SetSeedCenter(seed);
+  cut->SetSeedRadius(1.5);
+  EXPECT_EQ(cut->GetHandleRepair(), "membrane");
+  cut->SetHandleRepair("cut");
+  EXPECT_EQ(cut->GetHandleRepair(), "cut");
+  EXPECT_THROW(cut->SetHandleRepair("glue"), itk::ExceptionObject);
+  cut->Update();
+  EXPECT_EQ(cut->GetNumberOfCappedHandles(), 1u);
+  EXPECT_EQ(cut->GetGenus(), 0u);
+  EXPECT_EQ(cut->GetNumberOfContactRegions(), 0u);
 }

@@ -672,6 +672,7 @@ py::dict model_report(const gdm::DeformResult& r, double seconds, double check_s
   d["cavity_opening_mm"] = r.cavity_opening_width;
   d["handles"] = r.handles;
   d["handle_voxels"] = r.handle_voxels;
+  d["handle_repair"] = gdm::to_string(r.handle_repair);
   d["topology"] = gdm::to_string(r.topology);
   d["handles_opened"] = r.handles_opened;
   d["cavity_components"] = r.cavity_components;
@@ -689,6 +690,7 @@ py::dict model_report(const gdm::DeformResult& r, double seconds, double check_s
       region["largest_opening_mm"] = list3(c.opening_centre);
     }
     if (c.kind == gdm::CavityKind::handle) region["hole_width_mm"] = c.width;
+    if (c.kind == gdm::CavityKind::cut) region["body_width_mm"] = c.width;
     regions.append(region);
   }
   d["filled_regions"] = regions;

@@ -207,7 +207,8 @@ def test_a_torus_is_capped_across_its_hole():
     """cap_handles (on by default, with fill_cavities): a model grown in a
     torus's tube keeps genus 0 by a membrane across the hole at its narrowest
     place, and the report's filled_regions says where; off, the model goes
-    round the tube and the report names where its fronts meet."""
+    round the tube and the report names where its fronts meet; with
+    handle_repair="cut" the tube is parted instead."""
     nx, nz, big, small = 44, 22, 12.0, 5.0
     cx, cz = (nx - 1) / 2.0, (nz - 1) / 2.0
     i, j, k = np.meshgrid(np.arange(nx) - cx, np.arange(nx) - cx, np.arange(nz) - cz, indexing="ij")
@@ -225,6 +226,21 @@ def test_a_torus_is_capped_across_its_hole():
     kept = gdm.extract_surface(volume, threshold=125, seed=seed, seed_radius=1.5, cap_handles=False)
     assert kept.report["model"]["handles"] == 0
     assert kept.report["contacts"]["regions"] > 0
+    # handle_repair="cut": the tube is parted instead (the hole stays open):
+    # one cut across the tube, as wide as the tube, genus 0, no contact, and
+    # the model's volume the torus's (2 pi^2 R r^2) but the cut's (three
+    # voxels of the tube: 4 %; measured 5.9 % less in all), not the torus's
+    # and the hole's.
+    cut = gdm.extract_surface(volume, threshold=125, seed=seed, seed_radius=1.5, handle_repair="cut")
+    model = cut.report["model"]
+    assert model["handle_repair"] == "cut" and model["handles"] == 1
+    [part] = [r for r in model["filled_regions"] if r["kind"] == "cut"]
+    assert abs(part["body_width_mm"] - 2.0 * small) < 1.5
+    assert abs(np.hypot(part["centre_mm"][0] - cx, part["centre_mm"][1] - cx) - big) < 1.5  # in the tube
+    assert cut.report["mesh"]["genus"] == 0 and cut.report["contacts"]["regions"] == 0
+    torus_volume = 2.0 * np.pi ** 2 * big * small ** 2
+    assert abs(cut.report["mesh"]["volume_mm3"] - torus_volume) < 0.08 * torus_volume
+    assert capped.report["mesh"]["volume_mm3"] > 1.2 * torus_volume
 
 
 def test_topology_exact_follows_the_torus_and_the_cavity():

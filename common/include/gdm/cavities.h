@@ -36,6 +36,16 @@
 // of a handle, where the hole is narrowest (the last place the widest-first
 // growth reaches from both sides: issue 15's "cap at the narrowest place");
 // it is thickened so the model can grow into it, and reported.
+//
+// Or the dual (handle_repair cut, growing a solid model): the object is
+// grown from its deepest voxel voxel by voxel, the deepest places first
+// (largest distance to the background), by simple points (26-adjacency for
+// the object, 6 for the rest); what it cannot take without closing a loop
+// round a hole is given to the background. That is a cut across each
+// handle's body where it is thinnest (the last place the deepest-first
+// growth reaches from both sides): the hole stays open and the model
+// follows it, parting at the cut, where a membrane would close the hole
+// (measured on the scans of ../shared/data: README, stop 52).
 #pragma once
 
 #include <cstddef>
@@ -46,6 +56,17 @@
 
 namespace gdm {
 
+// How a handle of the object is removed so that the genus-0 model does not
+// meet itself around it (cap_handles).
+enum class HandleRepair {
+  membrane,  // background across the hole given to the object, at the hole's narrowest place: the
+             // model closes the hole (a torus becomes a disc)
+  cut,       // the object across the handle's body given to the background, at its thinnest place:
+             // the model follows the hole and parts at the cut (a torus becomes a C)
+};
+// "membrane", "cut".
+std::string to_string(HandleRepair repair);
+
 struct CavityOptions {
   double threshold = 0.0;            // T of eq. 2
   bool background_is_brighter = false;  // the background lies above T (an object darker than T)
@@ -54,7 +75,9 @@ struct CavityOptions {
   double opening = 0.0;              // W, mm: pockets the outside reaches only through openings narrower
                                      // than a ball of diameter W are filled when they are wider inside;
                                      // 0 = three voxels; at most two voxels = any 6-connected path reaches
-  bool cap_handles = true;           // leave a membrane across each handle's hole at its narrowest place
+  bool cap_handles = true;           // remove each handle of the object, as handle_repair says
+  HandleRepair handle_repair = HandleRepair::membrane;  // membrane: across each handle's hole at its
+                                     // narrowest place; cut: across the handle's body at its thinnest
   bool skip_growth_without_handles = true;  // with cap_handles, skip the growth when the object's region
                                      // (with what is filled) has no handle (voxel_topology.h): the same
                                      // fill for a fraction of the time; false = always grow (tests)
@@ -78,13 +101,14 @@ enum class CavityKind {
   enclosed,         // no path of background leads from it to the outside
   narrow_openings,  // a chamber the outside reaches only through openings narrower than W
   handle,           // a membrane across a handle's hole, at its narrowest place
+  cut,              // a cut across a handle's body, at its thinnest place (object given to the background)
 };
-// "enclosed", "narrow_openings", "handle" (the report's JSON and Python spell kinds so).
+// "enclosed", "narrow_openings", "handle", "cut" (the report's JSON and Python spell kinds so).
 std::string to_string(CavityKind kind);
 
 struct Cavity {
   CavityKind kind = CavityKind::enclosed;
-  std::size_t voxels = 0;      // background voxels filled
+  std::size_t voxels = 0;      // background voxels filled (cut: object voxels given to the background)
   Vec3 centre = Vec3::Zero();  // their centroid, mm
   // narrow_openings: the separate openings where the outside meets the filled
   // region (26-connected groups of its voxels next to reached background) and
@@ -92,7 +116,9 @@ struct Cavity {
   std::size_t openings = 0;
   Vec3 opening_centre = Vec3::Zero();
   // handle: the hole's width across the membrane, mm (twice the largest
-  // distance of a membrane voxel to the object); narrow_openings: W.
+  // distance of a membrane voxel to the object); cut: the body's thickness
+  // across the cut (twice the largest distance of a cut voxel to the
+  // background); narrow_openings: W.
   double width = 0.0;
 };
 
@@ -104,9 +130,11 @@ constexpr std::size_t kCavitySpeckVoxels = 8;
 struct CavityFill {
   bool applied = false;        // false: nothing filled, `volume` is empty, use the input
   Volume volume;               // the input with every filled voxel mirrored about T to the object's side
+                               // (and every cut voxel to the background's)
   std::vector<Cavity> cavities;  // one per filled region (6-connected cavities, 26-connected membranes),
                                  // largest first
   std::size_t voxels = 0;      // all filled voxels
+  std::size_t cut_voxels = 0;  // all cut voxels (handle_repair cut)
   double opening = 0.0;        // the ball diameter used for reach, mm (cavity_opening_width)
   bool grew = false;           // the handle growth ran (cap_handles, and the region had a handle or
                                // skip_growth_without_handles was off)

@@ -53,9 +53,13 @@ struct DeformOptions {
                                      // (and wider inside) is filled: the tooth's pulp behind canals one
                                      // or two voxels wide; 0 = three voxels; up to two voxels = any path
                                      // of voxels keeps a pocket open (issue 15); a larger gap wins
-  bool cap_handles = true;           // with fill_cavities, a membrane across each handle's hole at its
-                                     // narrowest place (cavities.h): a genus-0 model of a torus without
-                                     // two fronts meeting across its tube; reported as a handle
+  bool cap_handles = true;           // with fill_cavities, remove each handle before the model grows
+                                     // (cavities.h): a genus-0 model of a torus without two fronts
+                                     // meeting across its tube; reported as a handle
+  HandleRepair handle_repair = HandleRepair::membrane;  // membrane: across each handle's hole at its
+                                     // narrowest place (the hole closed); cut: across the handle's body at
+                                     // its thinnest place (the hole followed, the model parts at the cut;
+                                     // growing, topology solid)
   Topology topology = Topology::solid;  // grow or shrink: solid = one genus-0 outer surface (cavities filled, handles
                                         // capped); exact = the data's topology: each enclosed cavity also its
                                         // own closed component with normals into the cavity, each handle's
@@ -190,7 +194,8 @@ struct DeformResult {
   double cavity_opening_width = 0.0;     // that width W, mm (0: no fill)
   std::size_t handles = 0;               // handles capped by a membrane across the hole (cap_handles), of at
                                          // least kCavitySpeckVoxels voxels
-  std::size_t handle_voxels = 0;         // the membranes' voxels
+  std::size_t handle_voxels = 0;         // the membranes' (or cuts') voxels
+  HandleRepair handle_repair = HandleRepair::membrane;  // how the handles were removed
   Topology topology = Topology::solid;   // the topology the model was built with
   std::size_t handles_opened = 0;        // exact: of `handles`, caps replaced by a tube through the hole
                                          // (each raises the genus by one); the others stay caps

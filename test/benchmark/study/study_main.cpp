@@ -55,6 +55,7 @@ struct Settings {
   bool sweep_cgal = false;         // --faces-sweep: CGAL Mesh_3 matched to gdm's counts too (slow)
   bool sweep_scans = false;        // --faces-sweep: the real scans (--data) instead of the phantoms
   bool sweep_exact = false;        // --faces-sweep: gdm with topology exact (handles opened, cavities inward)
+  bool sweep_cut = false;          // --faces-sweep: gdm with handle_repair cut (handles cut across their bodies)
   std::vector<double> budgets;     // --faces-sweep: face budgets as counts (instead of --fractions)
   PhantomNoise noise;              // the Gaussian-noise phantoms' sigma and first seed
 };
@@ -101,6 +102,12 @@ std::vector<Method> methods() {
        [](gdm::DeformOptions& o) { o.topology = gdm::Topology::exact; }, false, 0, false, true},
       {"gdm-exact-seed80", "our GDM, topology exact, the command's seed (80-face sphere)", "our GDM (exact, 80-face seed)",
        Kind::gdm, [](gdm::DeformOptions& o) { o.topology = gdm::Topology::exact; }, false, 1, false, true},
+      // Stop 52: each handle cut across its body instead of capped across its hole (growing).
+      {"gdm-cut", "our GDM, handles cut (handle_repair cut)", "our GDM (cut)", Kind::gdm,
+       [](gdm::DeformOptions& o) {
+         if (o.mode == gdm::Mode::grow && o.topology == gdm::Topology::solid) o.handle_repair = gdm::HandleRepair::cut;
+       },
+       false, 0, false, true},
       {"fe", "VTK flying edges", "flying edges", Kind::flying_edges},
       {"slicer", "Slicer chain (FE + sinc + quadric, to our faces)", "Slicer chain", Kind::slicer_chain},
       {"itk-mc", "ITK BinaryMask3DMeshSource", "ITK mask MC", Kind::itk_binary_mask},
@@ -837,13 +844,15 @@ struct Sweep {
 // --data (distances to their reference surfaces) instead of the phantoms;
 // --sweep-exact runs gdm with topology exact (its handles opened, its
 // enclosed cavities as inward components), as a user keeping the data's
-// topology would.
+// topology would; --sweep-cut with its handles cut across their bodies
+// (handle_repair cut) where it grows.
 int faces_sweep(const Settings& s) {
   const int threads = thread_count(s);
   set_vtk_threads(threads);
   const auto all = methods();
   const auto exact = std::find_if(all.begin(), all.end(), [](const Method& m) { return m.id == "gdm-exact"; });
-  const Method gdm_method = s.sweep_exact && exact != all.end() ? *exact : all.front();
+  const auto cut = std::find_if(all.begin(), all.end(), [](const Method& m) { return m.id == "gdm-cut"; });
+  const Method gdm_method = s.sweep_exact && exact != all.end() ? *exact : s.sweep_cut && cut != all.end() ? *cut : all.front();
   std::ofstream csv;
   if (!s.out.empty()) {
     fs::create_directories(s.out);
@@ -1274,6 +1283,7 @@ int main(int argc, char** argv) {
       else if (a == "--sweep-cgal") s.sweep_cgal = true;
       else if (a == "--sweep-scans") s.sweep_scans = true;
       else if (a == "--sweep-exact") s.sweep_exact = true;
+      else if (a == "--sweep-cut") s.sweep_cut = true;
       else if (a == "--budgets") {
         std::stringstream list(value());
         for (std::string item; std::getline(list, item, ',');) s.budgets.push_back(std::stod(item));
@@ -1285,7 +1295,7 @@ int main(int argc, char** argv) {
       }
       else {
         std::fprintf(stderr, "gdm_benchmark_study: unknown argument '%s'\nusage: gdm_benchmark_study --out DIR [--quick] "
-                             "[--runs N] [--threads N] [--data DIR] [--commit TEXT] [--budget SECONDS] [--only CASE-ID-PART]... [--dump] [--noise-sigma S] [--noise-seed N] [--faces-sweep [--fractions F,F,...|--budgets N,N,...] [--sweep-cgal] [--sweep-scans] [--sweep-exact]]\n", a.c_str());
+                             "[--runs N] [--threads N] [--data DIR] [--commit TEXT] [--budget SECONDS] [--only CASE-ID-PART]... [--dump] [--noise-sigma S] [--noise-seed N] [--faces-sweep [--fractions F,F,...|--budgets N,N,...] [--sweep-cgal] [--sweep-scans] [--sweep-exact] [--sweep-cut]]\n", a.c_str());
         return 2;
       }
     } catch (const std::exception&) {
