@@ -386,7 +386,7 @@ TEST(itkGDMSphere, AHandleIsCappedAcrossItsHole)
     it.Set(static_cast<float>(50.0 + 150.0 * std::clamp(0.5 - tube, 0.0, 1.0)));
   }
   using FilterType = itk::GeometricallyDeformedModelImageToMeshFilter<TorusImage, itk::Mesh<float, 3>>;
-  const auto run = [&](bool cap, const std::string & topology) {
+  const auto run = [&](bool cap, const std::string & topology, const std::string & repair = "membrane") {
     auto filter = FilterType::New();
     filter->SetInput(image);
     filter->SetThreshold(125.0);
@@ -398,6 +398,7 @@ TEST(itkGDMSphere, AHandleIsCappedAcrossItsHole)
     filter->SetSeedRadius(1.5);
     filter->SetOption("cap_handles", cap ? 1.0 : 0.0);
     filter->SetTopology(topology);
+    filter->SetHandleRepair(repair);
     filter->Update();
     return filter;
   };
@@ -419,20 +420,10 @@ TEST(itkGDMSphere, AHandleIsCappedAcrossItsHole)
   EXPECT_THROW(exact->SetTopology("porous"), itk::ExceptionObject);
   // Cut instead of capped: the handle is parted across its tube (stop 52):
   // still one handle removed, genus 0, and the model meets itself nowhere.
-  auto cut = FilterType::New();
-  cut->SetInput(image);
-  cut->SetThreshold(125.0);
-  FilterType::PointType seed;
-  seed[0] = c;
-  seed[1] = c - R;
-  seed[2] = cz;
-  cut->SetSeedCenter(seed);
-  cut->SetSeedRadius(1.5);
-  EXPECT_EQ(cut->GetHandleRepair(), "membrane");
-  cut->SetHandleRepair("cut");
+  EXPECT_EQ(capped->GetHandleRepair(), "membrane");
+  const auto cut = run(true, "solid", "cut");
   EXPECT_EQ(cut->GetHandleRepair(), "cut");
   EXPECT_THROW(cut->SetHandleRepair("glue"), itk::ExceptionObject);
-  cut->Update();
   EXPECT_EQ(cut->GetNumberOfCappedHandles(), 1u);
   EXPECT_EQ(cut->GetGenus(), 0u);
   EXPECT_EQ(cut->GetNumberOfContactRegions(), 0u);
