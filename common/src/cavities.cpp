@@ -113,6 +113,20 @@ std::array<std::ptrdiff_t, 27> neighbour_offsets(const Index3& n) {
   return offset;
 }
 
+// The voxel offsets within t (mm) of a voxel on a grid of spacing h: an
+// ellipsoid of voxels on an anisotropic grid; in z, y, x order.
+std::vector<Index3> offsets_within(const Vec3& h, double t) {
+  Index3 reach;
+  for (int a = 0; a < 3; ++a) reach[a] = static_cast<int>(std::floor(t / h[a]));
+  std::vector<Index3> ball;
+  for (int dz = -reach[2]; dz <= reach[2]; ++dz)
+    for (int dy = -reach[1]; dy <= reach[1]; ++dy)
+      for (int dx = -reach[0]; dx <= reach[0]; ++dx)
+        if ((dx * h[0]) * (dx * h[0]) + (dy * h[1]) * (dy * h[1]) + (dz * h[2]) * (dz * h[2]) <= t * t)
+          ball.push_back({dx, dy, dz});
+  return ball;
+}
+
 // The 3 x 3 x 3 neighbourhood of a voxel as 27 bits, slot (dx + 1) + 3 (dy +
 // 1) + 9 (dz + 1); the centre is slot 13. The masks the simple-point test
 // walks with.
@@ -556,8 +570,7 @@ void CavityFinder::cap_handles(CavityFill& fill) {
     }
     return true;
   };
-  Index3 reach;
-  for (int a = 0; a < 3; ++a) reach[a] = static_cast<int>(std::floor(t / h[a]));
+  const std::vector<Index3> ball = offsets_within(h, t);
   for (std::size_t c = 0; c < box_.count(); ++c) {
     if (seen[c] || at[c].state != kFree || kind_[c] != kBackground) continue;
     seen[c] = 1;
@@ -586,18 +599,15 @@ void CavityFinder::cap_handles(CavityFill& fill) {
       // Thickened into the reached background within t of the membrane, in its sight.
       for (const std::size_t m : members) {
         const Index3 v = box_.voxel(m);
-        for (int dz = -reach[2]; dz <= reach[2]; ++dz)
-          for (int dy = -reach[1]; dy <= reach[1]; ++dy)
-            for (int dx = -reach[0]; dx <= reach[0]; ++dx) {
-              if ((dx * h[0]) * (dx * h[0]) + (dy * h[1]) * (dy * h[1]) + (dz * h[2]) * (dz * h[2]) > t * t) continue;
-              const Index3 u{v[0] + dx, v[1] + dy, v[2] + dz};
-              if (u[0] < 0 || u[1] < 0 || u[2] < 0 || u[0] >= n[0] || u[1] >= n[1] || u[2] >= n[2]) continue;
-              const std::size_t ui = box_.index(u[0], u[1], u[2]);
-              if (kind_[ui] != kBackground || fill_[ui] || at[ui].state != kReached || !in_sight(v, u)) continue;
-              fill_[ui] = 1;
-              thick.push_back(ui);
-              ++cap.voxels;
-            }
+        for (const Index3& d : ball) {
+          const Index3 u{v[0] + d[0], v[1] + d[1], v[2] + d[2]};
+          if (u[0] < 0 || u[1] < 0 || u[2] < 0 || u[0] >= n[0] || u[1] >= n[1] || u[2] >= n[2]) continue;
+          const std::size_t ui = box_.index(u[0], u[1], u[2]);
+          if (kind_[ui] != kBackground || fill_[ui] || at[ui].state != kReached || !in_sight(v, u)) continue;
+          fill_[ui] = 1;
+          thick.push_back(ui);
+          ++cap.voxels;
+        }
       }
     }
     fill.cavities.push_back(cap);
@@ -614,26 +624,19 @@ constexpr double kCutHalfWidth = 1.0;
 // The object within kCutHalfWidth of the cut's voxels `members` (ellipsoidal
 // reach on an anisotropic grid) joins the cut: appended to `members`.
 void CavityFinder::widen_cut(const std::vector<char>& solid, std::vector<std::size_t>& members) {
-  const Vec3& h = volume_.spacing();
-  const double t = kCutHalfWidth * volume_.voxel_size();
-  Index3 reach;
-  for (int a = 0; a < 3; ++a) reach[a] = static_cast<int>(std::floor(t / h[a] + 1e-9));
+  const std::vector<Index3> ball = offsets_within(volume_.spacing(), kCutHalfWidth * volume_.voxel_size());
   const Index3& n = box_.n;
   const std::size_t core = members.size();
   for (std::size_t k = 0; k < core; ++k) {
-    const std::size_t c = members[k];
-    const Index3 v = box_.voxel(c);
-    for (int dz = -reach[2]; dz <= reach[2]; ++dz)
-      for (int dy = -reach[1]; dy <= reach[1]; ++dy)
-        for (int dx = -reach[0]; dx <= reach[0]; ++dx) {
-          if ((dx * h[0]) * (dx * h[0]) + (dy * h[1]) * (dy * h[1]) + (dz * h[2]) * (dz * h[2]) > t * t * (1.0 + 1e-9)) continue;
-          const Index3 u{v[0] + dx, v[1] + dy, v[2] + dz};
-          if (u[0] < 1 || u[1] < 1 || u[2] < 1 || u[0] >= n[0] - 1 || u[1] >= n[1] - 1 || u[2] >= n[2] - 1) continue;
-          const std::size_t ui = box_.index(u[0], u[1], u[2]);
-          if (!solid[ui] || cut_[ui]) continue;
-          cut_[ui] = 1;
-          members.push_back(ui);
-        }
+    const Index3 v = box_.voxel(members[k]);
+    for (const Index3& d : ball) {
+      const Index3 u{v[0] + d[0], v[1] + d[1], v[2] + d[2]};
+      if (u[0] < 1 || u[1] < 1 || u[2] < 1 || u[0] >= n[0] - 1 || u[1] >= n[1] - 1 || u[2] >= n[2] - 1) continue;
+      const std::size_t ui = box_.index(u[0], u[1], u[2]);
+      if (!solid[ui] || cut_[ui]) continue;
+      cut_[ui] = 1;
+      members.push_back(ui);
+    }
   }
 }
 
