@@ -66,13 +66,26 @@ std::vector<int> rings_from(const Mesh& m, const std::vector<char>& from, int li
   return ring;
 }
 
-// The rim of a group of faces as one loop of vertices, in the direction of
-// the group's own halfedges (empty when the rim is not one simple loop).
-std::vector<int> rim_loop(const Mesh& m, const std::vector<int>& group, const std::vector<int>& group_of, int id) {
+// The rim of a group of faces: its halfedges whose opposite face is not in
+// the group.
+std::set<int> rim_halfedges(const Mesh& m, const std::vector<int>& group, const std::vector<int>& group_of, int id) {
   std::set<int> rim;
   for (int f : group)
     for (auto h : m.fh_range(Mesh::FaceHandle(f)))
       if (group_of[static_cast<std::size_t>(m.face_handle(m.opposite_halfedge_handle(h)).idx())] != id) rim.insert(h.idx());
+  return rim;
+}
+
+// The rim halfedge after h along the rim (turning round h's end vertex).
+Mesh::HalfedgeHandle next_on_rim(const Mesh& m, const std::set<int>& rim, Mesh::HalfedgeHandle h) {
+  Mesh::HalfedgeHandle next = m.next_halfedge_handle(h);
+  while (!rim.count(next.idx())) next = m.next_halfedge_handle(m.opposite_halfedge_handle(next));
+  return next;
+}
+
+// The rim as one loop of vertices, in the direction of the group's own
+// halfedges (empty when it is not one simple loop).
+std::vector<int> rim_loop(const Mesh& m, const std::set<int>& rim) {
   if (rim.empty()) return {};
   std::vector<int> loop;
   std::set<int> seen;
@@ -81,30 +94,19 @@ std::vector<int> rim_loop(const Mesh& m, const std::vector<int>& group, const st
     const int v = m.from_vertex_handle(h).idx();
     if (!seen.insert(v).second) return {};
     loop.push_back(v);
-    Mesh::HalfedgeHandle next = m.next_halfedge_handle(h);
-    while (!rim.count(next.idx())) next = m.next_halfedge_handle(m.opposite_halfedge_handle(next));
-    h = next;
+    h = next_on_rim(m, rim, h);
   }
   return h.idx() == *rim.begin() ? loop : std::vector<int>{};
 }
 
-// How many loops the rim of a group of faces makes.
-int rim_loops(const Mesh& m, const std::vector<int>& group, const std::vector<int>& group_of, int id) {
-  std::set<int> rim;
-  for (int f : group)
-    for (auto h : m.fh_range(Mesh::FaceHandle(f)))
-      if (group_of[static_cast<std::size_t>(m.face_handle(m.opposite_halfedge_handle(h)).idx())] != id) rim.insert(h.idx());
+// How many loops the rim makes.
+int rim_loops(const Mesh& m, const std::set<int>& rim) {
   std::set<int> walked;
   int loops = 0;
   for (int start : rim) {
     if (walked.count(start)) continue;
     ++loops;
-    Mesh::HalfedgeHandle h(start);
-    while (walked.insert(h.idx()).second) {
-      Mesh::HalfedgeHandle next = m.next_halfedge_handle(h);
-      while (!rim.count(next.idx())) next = m.next_halfedge_handle(m.opposite_halfedge_handle(next));
-      h = next;
-    }
+    for (Mesh::HalfedgeHandle h(start); walked.insert(h.idx()).second;) h = next_on_rim(m, rim, h);
   }
   return loops;
 }
@@ -238,8 +240,9 @@ int main(int argc, char** argv) {
     bool both = false;
     for (int f : group) both = both || unit_normal(m, Mesh::FaceHandle(f)).dot(first) < -0.5;
     const double area = area_of(group);
-    largest.push_back({area, group.size(), euler, rim_loops(m, group, group_of, id)});
-    const std::vector<int> loop = euler == 1 ? rim_loop(m, group, group_of, id) : std::vector<int>{};
+    const std::set<int> rim = rim_halfedges(m, group, group_of, id);
+    largest.push_back({area, group.size(), euler, rim_loops(m, rim)});
+    const std::vector<int> loop = euler == 1 ? rim_loop(m, rim) : std::vector<int>{};
     if (loop.empty()) {
       ++not_disk;
       not_disk_area += area;
