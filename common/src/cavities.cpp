@@ -223,6 +223,8 @@ class CavityFinder {
   void cap_handles(CavityFill& fill);
   void cut_handles(CavityFill& fill);
   void widen_cut(const std::vector<char>& solid, std::vector<std::size_t>& members);
+  template <typename Admits>
+  void gather_26(std::size_t seed, Admits&& admits, std::vector<char>& seen, std::vector<std::size_t>& members) const;
   bool has_handles() const;
   void seal_pockets(CavityFill& fill);
   Cavity describe(const std::vector<std::size_t>& members, CavityKind kind) const;
@@ -571,25 +573,12 @@ void CavityFinder::cap_handles(CavityFill& fill) {
     return true;
   };
   const std::vector<Index3> ball = offsets_within(h, t);
+  const auto left_free = [&](std::size_t m) { return at[m].state == kFree && kind_[m] == kBackground; };
   for (std::size_t c = 0; c < box_.count(); ++c) {
-    if (seen[c] || at[c].state != kFree || kind_[c] != kBackground) continue;
-    seen[c] = 1;
-    members.assign(1, c);
+    if (seen[c] || !left_free(c)) continue;
+    gather_26(c, left_free, seen, members);
     double widest = 0.0;
-    for (std::size_t q = 0; q < members.size(); ++q) {
-      widest = std::max(widest, static_cast<double>(at[members[q]].d2));
-      const Index3 v = box_.voxel(members[q]);
-      for (int dz = -1; dz <= 1; ++dz)
-        for (int dy = -1; dy <= 1; ++dy)
-          for (int dx = -1; dx <= 1; ++dx) {
-            const Index3 u{v[0] + dx, v[1] + dy, v[2] + dz};
-            if (u[0] < 0 || u[1] < 0 || u[2] < 0 || u[0] >= n[0] || u[1] >= n[1] || u[2] >= n[2]) continue;
-            const std::size_t ui = box_.index(u[0], u[1], u[2]);
-            if (seen[ui] || at[ui].state != kFree || kind_[ui] != kBackground) continue;
-            seen[ui] = 1;
-            members.push_back(ui);
-          }
-    }
+    for (const std::size_t m : members) widest = std::max(widest, static_cast<double>(at[m].d2));
     for (const std::size_t m : members) fill_[m] = 1;
     Cavity cap = describe(members, CavityKind::handle);
     cap.openings = 1;
@@ -613,6 +602,25 @@ void CavityFinder::cap_handles(CavityFill& fill) {
     fill.cavities.push_back(cap);
   }
   if (!thick.empty()) seal_pockets(fill);
+}
+
+// The 26-connected group around `seed` of the voxels `admits` (each marked
+// in `seen`), into `members` in the order a breadth-first walk takes them.
+// Every voxel admitted lies inside the box's border: its 26 neighbours are
+// in the box, a fixed index offset away.
+template <typename Admits>
+void CavityFinder::gather_26(std::size_t seed, Admits&& admits, std::vector<char>& seen,
+                             std::vector<std::size_t>& members) const {
+  const std::array<std::ptrdiff_t, 27> offset = neighbour_offsets(box_.n);
+  seen[seed] = 1;
+  members.assign(1, seed);
+  for (std::size_t q = 0; q < members.size(); ++q)
+    for (const std::ptrdiff_t o : offset) {
+      const std::size_t m = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(members[q]) + o);
+      if (seen[m] || !admits(m)) continue;
+      seen[m] = 1;
+      members.push_back(m);
+    }
 }
 
 // How far (voxels of the finest spacing, each side) a cut is widened: a cut
@@ -699,20 +707,12 @@ void CavityFinder::cut_handles(CavityFill& fill) {
   for (std::size_t c = 0; c < box_.count(); ++c) cut_[c] = state[c] == kFree;
   std::vector<char> seen(box_.count(), 0);
   std::vector<std::size_t> members;
+  const auto never_taken = [&](std::size_t m) { return state[m] == kFree; };
   for (std::size_t c = 0; c < box_.count(); ++c) {
-    if (state[c] != kFree || seen[c]) continue;
-    seen[c] = 1;
-    members.assign(1, c);
+    if (seen[c] || !never_taken(c)) continue;
+    gather_26(c, never_taken, seen, members);
     float thickest = 0.0f;
-    for (std::size_t q = 0; q < members.size(); ++q) {
-      thickest = std::max(thickest, d2[members[q]]);
-      for (int s = 0; s < 27; ++s) {
-        const std::size_t m = neighbour(members[q], s);
-        if (state[m] != kFree || seen[m]) continue;
-        seen[m] = 1;
-        members.push_back(m);
-      }
-    }
+    for (const std::size_t m : members) thickest = std::max(thickest, d2[m]);
     if (members.size() >= kCavitySpeckVoxels) widen_cut(solid, members);
     Cavity cut = describe(members, CavityKind::cut);
     cut.openings = 1;
