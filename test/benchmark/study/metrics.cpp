@@ -12,6 +12,7 @@
 
 #include "gdm/mesh_checks.h"
 #include "gdm/predicates.h"
+#include "gdm/self_contact.h"
 
 namespace study {
 namespace {
@@ -352,6 +353,63 @@ ErrorStats error_stats(const std::vector<Point>& points, const std::function<dou
   e.p95 = d[k];
   e.valid = true;
   return e;
+}
+
+SeamSplit seam_split(const Surface& s, const std::function<double(const Point&)>& distance, double voxel_size,
+                     const std::function<bool(const gdm::Vec3&)>& object_side, int threads) {
+  SeamSplit r;
+  if (s.faces.empty()) return r;
+  // The faces OpenMesh accepts (a decimated surface may have a few
+  // non-manifold edges or vertices; the faces it refuses count as off the
+  // seams), in the surface's order.
+  gdm::Mesh mesh;
+  std::vector<gdm::Mesh::VertexHandle> handles;
+  handles.reserve(s.points.size());
+  for (const auto& p : s.points) handles.push_back(mesh.add_vertex({p[0], p[1], p[2]}));
+  std::vector<int> refused;
+  omerr().disable();
+  for (std::size_t i = 0; i < s.faces.size(); ++i) {
+    const auto& f = s.faces[i];
+    if (!mesh.add_face(handles[f[0]], handles[f[1]], handles[f[2]]).is_valid()) refused.push_back(static_cast<int>(i));
+  }
+  omerr().enable();
+  std::vector<gdm::Vec3> gaps;
+  std::vector<char> seam = gdm::contact_faces(mesh, voxel_size, &gaps, threads);
+  std::size_t seams = 0;
+  for (std::size_t f = 0; f < seam.size(); ++f) {
+    seam[f] = seam[f] && object_side(gaps[f]);
+    seams += seam[f] ? 1 : 0;
+  }
+  double sum = 0.0;
+  std::size_t count = 0;
+  const auto add = [&](const gdm::Vec3& p) {
+    sum += std::abs(distance({p.x(), p.y(), p.z()})) / voxel_size;
+    ++count;
+  };
+  for (auto f : mesh.faces()) {
+    if (seam[static_cast<std::size_t>(f.idx())]) continue;
+    gdm::Vec3 c = gdm::Vec3::Zero();
+    for (auto v : mesh.fv_range(f)) c += gdm::to_eigen(mesh.point(v));
+    add(c / 3.0);
+  }
+  std::vector<char> elsewhere(s.points.size(), 0);
+  for (auto v : mesh.vertices())
+    for (auto f : mesh.vf_range(v)) elsewhere[static_cast<std::size_t>(v.idx())] |= !seam[static_cast<std::size_t>(f.idx())];
+  for (int i : refused) {
+    Point c{0, 0, 0};
+    for (int k = 0; k < 3; ++k) {
+      const auto& q = s.points[static_cast<std::size_t>(s.faces[static_cast<std::size_t>(i)][k])];
+      elsewhere[static_cast<std::size_t>(s.faces[static_cast<std::size_t>(i)][k])] = 1;
+      for (int a = 0; a < 3; ++a) c[a] += q[a] / 3.0;
+    }
+    add({c[0], c[1], c[2]});
+  }
+  for (std::size_t i = 0; i < elsewhere.size(); ++i)
+    if (elsewhere[i]) add({s.points[i][0], s.points[i][1], s.points[i][2]});
+  r.share = static_cast<double>(seams) / static_cast<double>(s.faces.size());
+  r.mean_elsewhere = count ? sum / static_cast<double>(count) : 0.0;
+  r.valid = true;
+  return r;
 }
 
 }  // namespace study

@@ -60,4 +60,21 @@ struct ErrorStats {
 ErrorStats error_stats(const std::vector<Point>& points, const std::function<double(const Point&)>& distance,
                        double voxel_size);
 
+// Seams (issue 16): the faces of a surface that face another part of it
+// closer than a voxel across the object (gdm::contact_faces, the gap's
+// midpoint on the object's side), where a growing model's fronts met head on
+// and stopped; an iso-surface has none (its sheets face each other across
+// background only). `share` of the faces, and the error of the sample points
+// away from them (the centroids of the other faces and the vertices with
+// another face around them), in voxels; a face that is not part of a
+// 2-manifold with the ones before it (a decimated surface has a few) counts
+// as off the seams.
+struct SeamSplit {
+  double share = 0.0;           // share of the faces on seams
+  double mean_elsewhere = 0.0;  // mean error of the points away from the seams, voxels
+  bool valid = false;
+};
+SeamSplit seam_split(const Surface& surface, const std::function<double(const Point&)>& distance, double voxel_size,
+                     const std::function<bool(const gdm::Vec3&)>& object_side, int threads);
+
 }  // namespace study

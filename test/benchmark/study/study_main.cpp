@@ -857,11 +857,13 @@ int faces_sweep(const Settings& s) {
   if (!s.out.empty()) {
     fs::create_directories(s.out);
     csv.open((fs::path(s.out) / "faces-sweep.csv").string());
-    csv << "case,fraction,fe_faces,method,faces,mean_vox,p95_vox,seconds,share_beyond_1vox,mean_within_1vox\n";
+    csv << "case,fraction,fe_faces,method,faces,mean_vox,p95_vox,seconds,share_beyond_1vox,mean_within_1vox,"
+           "share_on_seams,mean_off_seams_vox\n";
   }
   std::printf("| phantom | budget | gdm faces | gdm mean / p95 | chain faces | chain mean / p95 | gdm s "
-              "| beyond 1 voxel: gdm / chain | mean within 1 voxel: gdm / chain |\n"
-              "|---|---|---|---|---|---|---|---|---|\n");
+              "| beyond 1 voxel: gdm / chain | mean within 1 voxel: gdm / chain | faces on seams: gdm / chain "
+              "| mean off the seams: gdm / chain |\n"
+              "|---|---|---|---|---|---|---|---|---|---|---|\n");
   const CaseSet set = s.sweep_scans ? scan_cases(s.data) : phantom_cases(false, s.noise);
   for (const std::string& why : set.skipped) std::fprintf(stderr, "skipped: %s\n", why.c_str());
   for (const Case& c : set.cases) {
@@ -872,10 +874,25 @@ int faces_sweep(const Settings& s) {
     const Truth truth = make_truth(c);
     const std::size_t fe_faces = run_flying_edges(c.image, c.threshold).surface.faces.size();
     double cgal_distance = 0.0;
-    const auto row = [&](double fraction, const char* method, std::size_t faces, const ErrorStats& e, double seconds) {
-      if (csv.is_open())
+    const auto row = [&](double fraction, const char* method, std::size_t faces, const ErrorStats& e, double seconds,
+                         const SeamSplit& seams) {
+      if (csv.is_open()) {
         csv << '"' << c.name << "\"," << fraction << ',' << fe_faces << ',' << method << ',' << faces << ',' << e.mean
-            << ',' << e.p95 << ',' << seconds << ',' << e.share_beyond_one << ',' << e.mean_within_one << '\n';
+            << ',' << e.p95 << ',' << seconds << ',' << e.share_beyond_one << ',' << e.mean_within_one << ',';
+        if (seams.valid)
+          csv << seams.share << ',' << seams.mean_elsewhere << '\n';
+        else
+          csv << ",\n";
+      }
+    };
+    // Seams: faces facing another part of the surface across the object (its side of the threshold).
+    const auto object_side = [&](const gdm::Vec3& p) {
+      double value = 0.0;
+      if (!volume.sample_inside(p, value)) return false;
+      return c.object_brighter ? value > c.threshold : value < c.threshold;
+    };
+    const auto seams_of = [&](const Surface& surface) {
+      return seam_split(surface, truth.distance, c.voxel_size(), object_side, threads);
     };
     std::vector<double> fractions = s.fractions;
     if (!s.budgets.empty()) {
@@ -893,16 +910,21 @@ int faces_sweep(const Settings& s) {
         const ErrorStats ge = error_stats(sample_points(g.surface), truth.distance, c.voxel_size());
         const PeerResult sl = run_slicer_chain(c.image, c.threshold, g.surface.faces.size());
         const ErrorStats se = error_stats(sample_points(sl.surface), truth.distance, c.voxel_size());
-        std::printf("| %s | %.0f %% of %zu | %zu | %.3f / %.3f | %zu | %.3f / %.3f | %.2f | %.1f / %.1f %% | %.3f / %.3f |\n",
+        const SeamSplit gs = seams_of(g.surface), ss = seams_of(sl.surface);
+        const auto share = [](const SeamSplit& x) { return x.valid ? fmt("%.1f %%", 100.0 * x.share) : std::string("-"); };
+        const auto elsewhere = [](const SeamSplit& x) { return x.valid ? fmt("%.3f", x.mean_elsewhere) : std::string("-"); };
+        std::printf("| %s | %.0f %% of %zu | %zu | %.3f / %.3f | %zu | %.3f / %.3f | %.2f | %.1f / %.1f %% | %.3f / %.3f "
+                    "| %s / %s | %s / %s |\n",
                     c.name.c_str(), 100.0 * fraction, fe_faces, g.surface.faces.size(), ge.mean, ge.p95,
                     sl.surface.faces.size(), se.mean, se.p95, g.seconds, 100.0 * ge.share_beyond_one,
-                    100.0 * se.share_beyond_one, ge.mean_within_one, se.mean_within_one);
-        row(fraction, "gdm", g.surface.faces.size(), ge, g.seconds);
-        row(fraction, "slicer", sl.surface.faces.size(), se, sl.seconds);
+                    100.0 * se.share_beyond_one, ge.mean_within_one, se.mean_within_one, share(gs).c_str(),
+                    share(ss).c_str(), elsewhere(gs).c_str(), elsewhere(ss).c_str());
+        row(fraction, "gdm", g.surface.faces.size(), ge, g.seconds, gs);
+        row(fraction, "slicer", sl.surface.faces.size(), se, sl.seconds, ss);
         if (s.sweep_cgal) {
           const PeerResult cg = run_cgal_matched(c, g.surface.faces.size(), cgal_distance);
           const ErrorStats ce = error_stats(sample_points(cg.surface), truth.distance, c.voxel_size());
-          row(fraction, "cgal", cg.surface.faces.size(), ce, cg.seconds);
+          row(fraction, "cgal", cg.surface.faces.size(), ce, cg.seconds, seams_of(cg.surface));
         }
       } catch (const std::exception& e) {
         std::printf("| %s | %.0f %% | failed: %s |\n", c.name.c_str(), 100.0 * fraction, e.what());
