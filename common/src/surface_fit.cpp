@@ -206,56 +206,15 @@ Scratch& scratch() {
   return s;
 }
 
-// A vertex's neighbourhoods, gathered at its first look and kept for the
-// fit's passes: the moves change positions only, never which faces and
-// vertices lie around a vertex (gathering them again every pass was a tenth
-// of the fit on the T1 head, issue 17). Each list as vertices_within and
-// faces_around give it (sorted), so every sum runs in the same order.
-class Neighbourhoods {
- public:
-  Neighbourhoods(const Mesh& mesh, int normal_rings)
-      : mesh_(mesh), normal_rings_(normal_rings), faces_(mesh.n_vertices()), ring_(mesh.n_vertices()),
-        has_faces_(mesh.n_vertices(), 0), has_ring_(mesh.n_vertices(), 0) {}
-
-  // The faces within normal_rings rings of v. Each vertex's lists are
-  // written by the one thread that asks for that vertex.
-  const std::vector<int>& normal_faces(Mesh::VertexHandle v) {
-    const auto i = static_cast<std::size_t>(v.idx());
-    if (!has_faces_[i]) {
-      std::vector<int>& near = scratch().vertices;
-      vertices_within(mesh_, v, normal_rings_ - 1, near);
-      faces_around(mesh_, near, faces_[i]);
-      faces_[i].shrink_to_fit();
-      has_faces_[i] = 1;
-    }
-    return faces_[i];
-  }
-
-  // The vertices within two rings of v, v itself not among them.
-  const std::vector<int>& two_ring(Mesh::VertexHandle v) {
-    const auto i = static_cast<std::size_t>(v.idx());
-    if (!has_ring_[i]) {
-      vertices_within(mesh_, v, 2, ring_[i]);
-      ring_[i].erase(std::find(ring_[i].begin(), ring_[i].end(), v.idx()));
-      ring_[i].shrink_to_fit();
-      has_ring_[i] = 1;
-    }
-    return ring_[i];
-  }
-
- private:
-  const Mesh& mesh_;
-  int normal_rings_;
-  std::vector<std::vector<int>> faces_, ring_;
-  std::vector<char> has_faces_, has_ring_;
-};
-
 // The unit normal over the faces within `rings` rings of v (section 7), from
 // the faces' normals of the pass (`face_normals`, face_normal() of each:
 // every face is in the sums of a dozen vertices).
-Vec3 smoothed_normal(Neighbourhoods& hoods, Mesh::VertexHandle v, const std::vector<Vec3>& face_normals) {
+Vec3 smoothed_normal(const Mesh& mesh, Mesh::VertexHandle v, int rings, const std::vector<Vec3>& face_normals) {
+  Scratch& s = scratch();
+  vertices_within(mesh, v, rings - 1, s.vertices);
+  faces_around(mesh, s.vertices, s.faces);
   Vec3 n = Vec3::Zero();
-  for (int f : hoods.normal_faces(v)) n += face_normals[static_cast<std::size_t>(f)];
+  for (int f : s.faces) n += face_normals[static_cast<std::size_t>(f)];
   const double len = n.norm();
   return len > 0.0 ? Vec3(n / len) : Vec3::Zero();
 }
@@ -265,8 +224,10 @@ Vec3 smoothed_normal(Neighbourhoods& hoods, Mesh::VertexHandle v, const std::vec
 // surface is locally a quadric (a sphere, a cylinder, an ellipsoid to second
 // order), so drawing a vertex toward it smooths noise without the shrinkage
 // of Laplacian smoothing. NaN when the ring is too small to fit.
-double height_above_quadric(const Mesh& mesh, Neighbourhoods& hoods, Mesh::VertexHandle v, const Vec3& n) {
-  const std::vector<int>& ring = hoods.two_ring(v);
+double height_above_quadric(const Mesh& mesh, Mesh::VertexHandle v, const Vec3& n) {
+  std::vector<int>& ring = scratch().vertices;
+  vertices_within(mesh, v, 2, ring);
+  ring.erase(std::find(ring.begin(), ring.end(), v.idx()));
   if (ring.size() < 9) return std::numeric_limits<double>::quiet_NaN();
   const Vec3 p = pos(mesh, v), t1 = n.unitOrthogonal(), t2 = n.cross(t1);
   // Normal equations in coordinates scaled by the ring's extent (keeps them
@@ -335,7 +296,6 @@ FitResult fit_to_threshold(Mesh& mesh, const Volume& volume, double threshold, c
   std::vector<Vec3> goal(mesh.n_vertices(), Vec3::Zero());
   std::vector<char> moving(mesh.n_vertices(), 0);
   std::vector<IntersectionGuard::Checker> checkers;  // per thread, for moves by cubes
-  Neighbourhoods hoods(mesh, o.normal_rings);
   for (int pass = 0; pass < o.passes; ++pass) {
     face_normals.resize(mesh.n_faces());
     parallel_for(mesh.n_faces(), threads, [&](std::size_t f) {
@@ -357,7 +317,7 @@ FitResult fit_to_threshold(Mesh& mesh, const Volume& volume, double threshold, c
         has[i] = 1;
         return;
       }
-      const Vec3 n = smoothed_normal(hoods, v, face_normals);
+      const Vec3 n = smoothed_normal(mesh, v, o.normal_rings, face_normals);
       normal[i] = n;
       if (n.isZero()) return;
       const Vec3 p = pos(mesh, v);
@@ -432,7 +392,7 @@ FitResult fit_to_threshold(Mesh& mesh, const Volume& volume, double threshold, c
       std::vector<double> height(mesh.n_vertices(), std::numeric_limits<double>::quiet_NaN());
       parallel_for(mesh.n_vertices(), threads, [&](std::size_t i) {
         if (has[i] && active[i] && !normal[i].isZero())
-          height[i] = height_above_quadric(mesh, hoods, Mesh::VertexHandle(static_cast<int>(i)), normal[i]);
+          height[i] = height_above_quadric(mesh, Mesh::VertexHandle(static_cast<int>(i)), normal[i]);
       });
       for (std::size_t i = 0; i < height.size(); ++i) {
         if (std::isnan(height[i])) continue;
