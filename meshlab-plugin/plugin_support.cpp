@@ -38,7 +38,7 @@ void log_result(const gdm::PipelineResult& r, LogLines* log) {
   if (d.reason == gdm::StopReason::max_cycles)
     log->push_back("warning: the model did not converge; raise max_cycles or check the threshold");
   if (r.failure.empty()) log->push_back("result: " + gdm::to_string(r.report));
-  for (const std::string& line : gdm::describe_contacts(r.contacts)) log->push_back("warning: " + line);
+  for (const std::string& line : gdm::describe_contacts(r.contacts, 5, r.report.area)) log->push_back("warning: " + line);
 }
 
 }  // namespace gdm_meshlab

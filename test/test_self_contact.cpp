@@ -4,11 +4,13 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include "gdm/phantoms.h"
 #include "gdm/pipeline.h"
 #include "gdm/self_contact.h"
+#include "gdm/text.h"
 
 namespace {
 
@@ -62,6 +64,23 @@ TEST(SelfContact, a_shell_grown_from_one_side_meets_itself_across_the_object) {
   const std::vector<std::string> lines = describe_contacts(r.contacts);
   ASSERT_GE(lines.size(), 2u);
   EXPECT_NE(lines[1].find("cavity or a handle"), std::string::npos) << lines[1];
+  // The seams: the regions across the object, summed; the summary gives
+  // their share of the model's area.
+  double seam_area = 0.0;
+  std::size_t seam_faces = 0;
+  for (const ContactRegion& region : r.contacts.regions)
+    if (region.across_object) {
+      seam_area += region.area;
+      seam_faces += region.faces;
+    }
+  EXPECT_GT(r.contacts.seam_area, 1.0);
+  EXPECT_DOUBLE_EQ(r.contacts.seam_area, seam_area);
+  EXPECT_EQ(r.contacts.seam_faces, seam_faces);
+  EXPECT_LE(r.contacts.seam_area, r.contacts.area);
+  const double percent = 100.0 * r.contacts.seam_area / r.report.area;
+  const std::string first = describe_contacts(r.contacts, 5, r.report.area).front();
+  EXPECT_NE(first.find(format_number(std::round(percent), 3) + " % of the model's area"), std::string::npos)
+      << first << " (" << percent << " %)";
 }
 
 TEST(SelfContact, a_shell_filled_by_default_does_not_meet_itself) {
@@ -154,6 +173,11 @@ TEST(SelfContact, the_side_of_the_gap_names_the_region) {
   EXPECT_EQ(background.faces, r.contacts.faces);
   for (const ContactRegion& region : background.regions) EXPECT_FALSE(region.across_object);
   EXPECT_NE(describe_contacts(background)[1].find("slit of background"), std::string::npos);
+  // No seam among them: slits of background are the object's surface.
+  EXPECT_EQ(background.seam_area, 0.0);
+  EXPECT_EQ(background.seam_faces, 0u);
+  EXPECT_NE(describe_contacts(background).front().find("0 mm^2 of them (0 faces) are seams"), std::string::npos)
+      << describe_contacts(background).front();
 }
 
 // The contact search flags the faces on several threads: the flags, the

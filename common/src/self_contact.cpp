@@ -1,6 +1,7 @@
 #include "gdm/self_contact.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <numeric>
 #include <unordered_set>
@@ -225,17 +226,30 @@ ContactReport find_self_contacts(const Mesh& mesh, double distance, const std::f
     region.across_object = votes[r] >= 0;
     report.faces += region.faces;
     report.area += region.area;
+    if (region.across_object) {
+      report.seam_faces += region.faces;
+      report.seam_area += region.area;
+    }
   }
   std::stable_sort(report.regions.begin(), report.regions.end(),
                    [](const ContactRegion& a, const ContactRegion& b) { return a.area > b.area; });
   return report;
 }
 
-std::vector<std::string> describe_contacts(const ContactReport& report, std::size_t limit) {
+std::vector<std::string> describe_contacts(const ContactReport& report, std::size_t limit, double model_area) {
   std::vector<std::string> lines;
   if (report.regions.empty()) return lines;
+  // The seams' share of the model, in whole percent (or "under 1 %").
+  std::string share;
+  if (model_area > 0.0) {
+    const double percent = 100.0 * report.seam_area / model_area;
+    share = percent < 1.0 && report.seam_area > 0.0 ? ", under 1 % of the model's area"
+                                                     : ", " + format_number(std::round(percent), 3) + " % of the model's area";
+  }
   lines.push_back("the model meets itself in " + std::to_string(report.regions.size()) + " region(s), " +
-                  format_number(report.area, 4) + " mm^2 of faces closer than a voxel to another part of the surface:");
+                  format_number(report.area, 4) + " mm^2 of faces closer than a voxel to another part of the surface; " +
+                  format_number(report.seam_area, 4) + " mm^2 of them (" + std::to_string(report.seam_faces) +
+                  " faces" + share + ") are seams across the object, where the surface is not the object's:");
   for (std::size_t i = 0; i < report.regions.size() && i < limit; ++i) {
     const ContactRegion& r = report.regions[i];
     const Vec3& c = r.centre;

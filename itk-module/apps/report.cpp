@@ -81,7 +81,7 @@ std::string summary_text(const RunRecord& r) {
   if (r.model.cavities > 0) s << "  " << gdm::cavity_summary(r.model) << "\n";
   if (r.model.handles > 0) s << "  " << gdm::handle_summary(r.model) << "\n";
   if (r.model.topology == gdm::Topology::exact) s << "  " << gdm::topology_summary(r.model) << "\n";
-  for (const std::string& line : gdm::describe_contacts(r.contacts)) s << "  " << line << "\n";
+  for (const std::string& line : gdm::describe_contacts(r.contacts, 5, m.area)) s << "  " << line << "\n";
   s << "  closed " << (m.closed ? "yes" : "NO") << ", manifold " << (m.two_manifold ? "yes" : "NO") << ", genus "
     << m.genus << ", components " << m.components << ", self-intersections " << m.self_intersections << "\n"
     << "  smallest angle " << fixed(m.min_angle_deg, 2) << " deg";
@@ -269,6 +269,8 @@ std::string report_json(const RunRecord& r, const Options& options) {
   contacts.add("regions", json_number(r.contacts.regions.size()))
       .add("faces", json_number(r.contacts.faces))
       .add("area_mm2", json_number(r.contacts.area))
+      .add("seam_faces", json_number(r.contacts.seam_faces))
+      .add("seam_area_mm2", json_number(r.contacts.seam_area))
       .add("list", regions);
 
   JsonObject root;

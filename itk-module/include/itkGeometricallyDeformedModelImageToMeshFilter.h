@@ -513,9 +513,12 @@ public:
   /** Where the model meets itself (two parts of the surface closer than a
    * voxel, facing each other): regions and their area (physical units^2).
    * A region across the object means the model grew around a cavity or a
-   * handle from two sides and the surface there is not the object's. */
+   * handle from two sides and the surface there is not the object's:
+   * SeamArea is the area of those regions, the part of ContactArea that is
+   * a defect (the rest: slits of background thinner than a voxel). */
   itkGetConstMacro(NumberOfContactRegions, SizeValueType);
   itkGetConstMacro(ContactArea, double);
+  itkGetConstMacro(SeamArea, double);
 
   /** The cycle just done, readable during a ProgressEvent (the core's
    * CycleReport). Cycle is 1-based, 0 before the first cycle of a run; Stage
@@ -678,6 +681,7 @@ private:
   SizeValueType m_NumberOfComponents{ 0 };
   SizeValueType m_NumberOfContactRegions{ 0 };
   double        m_ContactArea{ 0.0 };
+  double        m_SeamArea{ 0.0 };
 
   SizeValueType m_CurrentCycle{ 0 };
   SizeValueType m_CurrentStage{ 0 };

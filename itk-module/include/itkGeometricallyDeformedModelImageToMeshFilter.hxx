@@ -212,6 +212,7 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::GenerateD
   m_NumberOfComponents = 0;
   m_NumberOfContactRegions = 0;
   m_ContactArea = 0.0;
+  m_SeamArea = 0.0;
   this->SetCurrentCycleReport(gdm::CycleReport{});
 
   if constexpr (InputImageDimension != 3)
@@ -308,6 +309,7 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::GenerateD
     m_NumberOfComponents = static_cast<SizeValueType>(std::max(0, pipelineResult.report.components));
     m_NumberOfContactRegions = static_cast<SizeValueType>(pipelineResult.contacts.regions.size());
     m_ContactArea = pipelineResult.contacts.area;
+    m_SeamArea = pipelineResult.contacts.seam_area;
 
     if (result.reason == gdm::StopReason::cancelled || this->GetAbortGenerateData())
     {
@@ -412,6 +414,7 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::PrintSelf
   os << indent << "NumberOfComponents: " << m_NumberOfComponents << std::endl;
   os << indent << "NumberOfContactRegions: " << m_NumberOfContactRegions << std::endl;
   os << indent << "ContactArea: " << m_ContactArea << std::endl;
+  os << indent << "SeamArea: " << m_SeamArea << std::endl;
   os << indent << "CurrentCycle: " << m_CurrentCycle << std::endl;
   os << indent << "CurrentStage: " << m_CurrentStage << std::endl;
   os << indent << "CurrentNumberOfVertices: " << m_CurrentNumberOfVertices << std::endl;

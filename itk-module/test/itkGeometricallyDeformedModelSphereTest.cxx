@@ -409,6 +409,10 @@ TEST(itkGDMSphere, AHandleIsCappedAcrossItsHole)
   const auto open = run(false, "solid");
   EXPECT_EQ(open->GetNumberOfCappedHandles(), 0u);
   EXPECT_GT(open->GetNumberOfContactRegions(), 0u);
+  // Its fronts met round the tube: a seam across the object, part of the contacts.
+  EXPECT_GT(open->GetSeamArea(), 0.0);
+  EXPECT_LE(open->GetSeamArea(), open->GetContactArea());
+  EXPECT_EQ(capped->GetSeamArea(), 0.0);
   // The data's own topology: the cap opens into a tube through the hole.
   EXPECT_EQ(capped->GetTopology(), "solid");
   EXPECT_EQ(capped->GetGenus(), 0u);

@@ -616,6 +616,8 @@ py::dict contacts_report(const gdm::ContactReport& c) {
   d["regions"] = c.regions.size();
   d["faces"] = c.faces;
   d["area_mm2"] = c.area;
+  d["seam_faces"] = c.seam_faces;
+  d["seam_area_mm2"] = c.seam_area;
   py::list regions;
   for (const gdm::ContactRegion& r : c.regions) {
     py::dict region;

@@ -226,6 +226,14 @@ def test_a_torus_is_capped_across_its_hole():
     kept = gdm.extract_surface(volume, threshold=125, seed=seed, seed_radius=1.5, cap_handles=False)
     assert kept.report["model"]["handles"] == 0
     assert kept.report["contacts"]["regions"] > 0
+    # Where the fronts met round the tube: a seam across the object, the
+    # regions across the object summed.
+    contacts = kept.report["contacts"]
+    seams = [r for r in contacts["list"] if r["across"] == "object"]
+    assert seams and contacts["seam_faces"] == sum(r["faces"] for r in seams)
+    assert abs(contacts["seam_area_mm2"] - sum(r["area_mm2"] for r in seams)) < 1e-9 * contacts["area_mm2"]
+    assert 0.0 < contacts["seam_area_mm2"] <= contacts["area_mm2"]
+    assert capped.report["contacts"]["seam_area_mm2"] == 0.0
     # handle_repair="cut": the tube is parted instead (the hole stays open):
     # one cut across the tube, as wide as the tube, genus 0, no contact, and
     # the model's volume the torus's (2 pi^2 R r^2) but the cut's (three

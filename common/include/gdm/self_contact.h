@@ -25,6 +25,11 @@ struct ContactReport {
   std::vector<ContactRegion> regions;  // largest first
   std::size_t faces = 0;               // faces in contact, all regions
   double area = 0.0;                   // their area, mm^2
+  // Of them, the regions across the object (seams: where the model's
+  // fronts met head on, the surface is not the object's; a slit of
+  // background between two parts of the object is the object's surface).
+  std::size_t seam_faces = 0;
+  double seam_area = 0.0;  // mm^2
 };
 
 // Faces f and g are in contact when g shares no vertex with f nor with a
@@ -59,6 +64,7 @@ std::vector<char> thin_faces(const Mesh& mesh, double distance, std::vector<Vec3
 
 // One log line per region (at most `limit`, the largest), saying what it
 // means; empty when there is no contact.
-std::vector<std::string> describe_contacts(const ContactReport& report, std::size_t limit = 5);
+// `model_area` (mm^2, > 0): the seams' share of it is said too.
+std::vector<std::string> describe_contacts(const ContactReport& report, std::size_t limit = 5, double model_area = 0.0);
 
 }  // namespace gdm
