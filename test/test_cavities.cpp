@@ -56,17 +56,10 @@ DeformOptions grow(double gap = 0.0) {
 double contact_area(const Mesh& mesh, double voxel) { return find_self_contacts(mesh, voxel).area; }
 
 // Area (mm^2) of the regions where the model meets itself across the
-// object (two fronts that grew round something), as the pipeline reports.
-double contact_across_object(const ContactReport& contacts) {
-  double area = 0.0;
-  for (const ContactRegion& c : contacts.regions)
-    if (c.across_object) area += c.area;
-  return area;
-}
-
+// object (two fronts that grew round something: the report's seams), as the
+// pipeline reports it.
 double contact_across_object(const Mesh& mesh, const Volume& v, double threshold) {
-  return contact_across_object(
-      find_self_contacts(mesh, v.voxel_size(), [&](const Vec3& p) { return v.sample(p) > threshold; }));
+  return find_self_contacts(mesh, v.voxel_size(), [&](const Vec3& p) { return v.sample(p) > threshold; }).seam_area;
 }
 
 // A hollow sphere (shell 3 voxels thick) grown from a seed in the shell, at
@@ -599,7 +592,7 @@ TEST(Cavities, the_whole_tooth_at_the_defaults_meets_itself_nowhere) {
   const PipelineResult r = extract_surface(tooth, o);
   ASSERT_TRUE(r.failure.empty()) << r.failure;
   test::expect_valid_closed_surface(r.mesh);
-  const double contacts = contact_across_object(r.contacts);
+  const double contacts = r.contacts.seam_area;
   std::printf("whole tooth at the defaults (T %.1f): %zu faces, %s; contacts across the object %.1f of %.1f mm^2\n",
               r.choices.threshold, r.mesh.n_faces(), cavity_summary(r.deform).c_str(), contacts, r.report.area);
   EXPECT_LE(contacts, 5.0);
@@ -608,7 +601,7 @@ TEST(Cavities, the_whole_tooth_at_the_defaults_meets_itself_nowhere) {
 
   o.deform.cavity_opening = 1.0;  // paths only: the fill as it was
   const PipelineResult before = extract_surface(tooth, o);
-  const double lined = contact_across_object(before.contacts);
+  const double lined = before.contacts.seam_area;
   std::printf("the same by paths only: contacts across the object %.1f mm^2\n", lined);
   EXPECT_GT(lined, 500.0);
 }
