@@ -106,13 +106,6 @@ std::uint64_t growth_key(float d2, std::size_t c) {
 
 // Index offsets of the 27 voxels of a 3 x 3 x 3 neighbourhood (slot (dx + 1)
 // + 3 (dy + 1) + 9 (dz + 1)) in a grid of n voxels, x fastest.
-std::array<std::ptrdiff_t, 27> neighbour_offsets(const Index3& n) {
-  const std::ptrdiff_t sx = 1, sy = n[0], sz = static_cast<std::ptrdiff_t>(n[0]) * n[1];
-  std::array<std::ptrdiff_t, 27> offset{};
-  for (int s = 0; s < 27; ++s) offset[static_cast<std::size_t>(s)] = (s % 3 - 1) * sx + ((s / 3) % 3 - 1) * sy + (s / 9 - 1) * sz;
-  return offset;
-}
-
 // The voxel offsets within t (mm) of a voxel on a grid of spacing h: an
 // ellipsoid of voxels on an anisotropic grid; in z, y, x order.
 std::vector<Index3> offsets_within(const Vec3& h, double t) {
@@ -126,71 +119,6 @@ std::vector<Index3> offsets_within(const Vec3& h, double t) {
           ball.push_back({dx, dy, dz});
   return ball;
 }
-
-// The 3 x 3 x 3 neighbourhood of a voxel as 27 bits, slot (dx + 1) + 3 (dy +
-// 1) + 9 (dz + 1); the centre is slot 13. The masks the simple-point test
-// walks with.
-struct Neighbourhood {
-  static constexpr int kCentre = 13;
-  std::array<std::uint32_t, 27> adjacent6{}, adjacent26{};
-  std::uint32_t faces = 0, n18 = 0, n26 = 0;
-
-  Neighbourhood() {
-    const auto d = [](int s) { return std::array<int, 3>{s % 3 - 1, (s / 3) % 3 - 1, s / 9 - 1}; };
-    for (int s = 0; s < 27; ++s) {
-      if (s == kCentre) continue;
-      const auto a = d(s);
-      const int l1 = std::abs(a[0]) + std::abs(a[1]) + std::abs(a[2]);
-      n26 |= 1u << s;
-      if (l1 <= 2) n18 |= 1u << s;
-      if (l1 == 1) faces |= 1u << s;
-      for (int t = 0; t < 27; ++t) {
-        if (t == kCentre || t == s) continue;
-        const auto b = d(t);
-        const int dx = std::abs(a[0] - b[0]), dy = std::abs(a[1] - b[1]), dz = std::abs(a[2] - b[2]);
-        if (std::max({dx, dy, dz}) > 1) continue;
-        adjacent26[s] |= 1u << t;
-        if (dx + dy + dz == 1) adjacent6[s] |= 1u << t;
-      }
-    }
-  }
-
-  // Components of `set` (a mask) under `adjacency`, counting only those that
-  // meet `must_meet`.
-  static int components(std::uint32_t set, const std::array<std::uint32_t, 27>& adjacency, std::uint32_t must_meet) {
-    int count = 0;
-    while (set & must_meet) {
-      std::uint32_t component = set & must_meet & (~(set & must_meet) + 1u);  // lowest such bit
-      std::uint32_t frontier = component;
-      while (frontier) {
-        std::uint32_t grown = 0;
-        for (std::uint32_t f = frontier; f; f &= f - 1u) grown |= adjacency[static_cast<std::size_t>(__builtin_ctz(f))];
-        frontier = grown & set & ~component;
-        component |= frontier;
-      }
-      set &= ~component;
-      ++count;
-    }
-    return count;
-  }
-
-  // Whether a voxel of the complement, whose neighbours in the reached
-  // background are `reached` (bits), may join it without changing the
-  // topology of either side (a simple point, Bertrand and Malandain 1994):
-  // one 6-component of the reached background in its 18-neighbourhood
-  // 6-adjacent to it, and one 26-component of the rest in its 26-neighbourhood.
-  bool simple(std::uint32_t reached) const {
-    return components(reached & n18, adjacent6, faces) == 1 && components(~reached & n26, adjacent26, n26) == 1;
-  }
-
-  // The same for the object grown from inside (cut_handles), whose
-  // neighbours in the reached object are `reached`: one 26-component of the
-  // reached object in its 26-neighbourhood, and one 6-component of the rest
-  // in its 18-neighbourhood 6-adjacent to it.
-  bool simple_for_object(std::uint32_t reached) const {
-    return components(reached & n26, adjacent26, n26) == 1 && components(~reached & n18, adjacent6, faces) == 1;
-  }
-};
 
 // What a voxel of the working box is.
 enum : char {
@@ -539,7 +467,7 @@ void CavityFinder::cap_handles(CavityFill& fill) {
         break;
       }
   }
-  const Neighbourhood hood;
+  const SimplePointTest hood;
   while (!queue.empty()) {
     const std::size_t c = queue.top().second;
     queue.pop();
@@ -548,7 +476,7 @@ void CavityFinder::cap_handles(CavityFill& fill) {
     for (int s = 0; s < 27; ++s)
       if (at[static_cast<std::size_t>(static_cast<std::ptrdiff_t>(c) + offset[static_cast<std::size_t>(s)])].state == kReached)
         reached |= 1u << s;
-    if (!hood.simple(reached)) continue;
+    if (!hood.simple_for_background(reached)) continue;
     at[c].state = kReached;
     requeue(c);
   }
@@ -691,7 +619,7 @@ void CavityFinder::cut_handles(CavityFill& fill) {
     }
   };
   take(start);
-  const Neighbourhood hood;
+  const SimplePointTest hood;
   while (!queue.empty()) {
     const std::size_t c = queue.top().second;
     queue.pop();

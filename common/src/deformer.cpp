@@ -30,6 +30,7 @@
 #include "gdm/surface_fit.h"
 #include "gdm/text.h"
 #include "gdm/triangle_quality.h"
+#include "gdm/voxel_seed.h"
 
 namespace gdm {
 
@@ -111,6 +112,16 @@ std::string handle_summary(const DeformResult& r) {
       << " mm across, " << c.voxels << " voxels";
   }
   more_regions(s, listed, r.handles);
+  return s.str();
+}
+
+std::string voxel_seed_summary(const DeformResult& r) {
+  if (!r.voxel_seed) return {};
+  std::ostringstream s;
+  s << "voxel seed: " << r.voxel_seed_voxels << " voxels (" << r.voxel_seed_background
+    << " of them background, taken to keep it well-composed; " << r.voxel_seed_left_out
+    << " object voxels next to it left out), its surface's " << r.voxel_seed_surface_faces
+    << " faces reduced to the level of detail before the model ran";
   return s.str();
 }
 
@@ -2004,6 +2015,26 @@ CoarseStart grow_coarse_first(Mesh& mesh, const Volume& grow_in, const Volume& i
   return start;
 }
 
+// The voxel seed (voxel_seed.h) of the object the model grows in, found
+// from the seed's vertices and centroid; when it applies, `mesh` becomes it
+// and `run` starts at the level of detail's final face size (the requested
+// one over 4 per global refinement) without refinements: the seed's faces
+// already have it.
+VoxelSeed voxel_seed_for(Mesh& mesh, const Volume& grow_in, const DeformOptions& requested, DeformOptions& run) {
+  if (!requested.voxel_seed || requested.mode != Mode::grow || requested.obstacle) return {};
+  VoxelSeedOptions v;
+  v.threshold = requested.threshold;
+  v.object_brighter = requested.polarity == Polarity::object_brighter;
+  v.face_area = requested.lod_face_area / std::pow(4.0, requested.global_refinements);
+  v.threads = requested.threads;
+  VoxelSeed seed = make_voxel_seed(grow_in, v, seed_points(mesh));
+  if (!seed.applied) return seed;
+  mesh = std::move(seed.mesh);
+  run.lod_face_area = v.face_area;
+  run.global_refinements = 0;
+  return seed;
+}
+
 CavityFill cavity_fill_for(const Mesh& seed, const Volume& volume, const DeformOptions& requested) {
   validate(requested, volume);
   const DeformOptions options = growth_schedule(requested);
@@ -2023,13 +2054,24 @@ DeformResult deform(Mesh& mesh, const Volume& volume, const DeformOptions& reque
   const double fill_seconds = clock.seconds();
   const Volume& gated = gate.applied ? gate.volume : volume;
   const Volume& grow_in = fill.applied ? fill.volume : gated;
+  clock = Stopwatch();
+  DeformOptions run_options = options;
+  const VoxelSeed voxel = voxel_seed_for(mesh, grow_in, requested, run_options);
+  const double voxel_seconds = clock.seconds();
   double coarse_seconds = 0.0;
-  const CoarseStart coarse = grow_coarse_first(mesh, grow_in, volume, options, observer, coarse_seconds);
+  const CoarseStart coarse =
+      voxel.applied ? CoarseStart{} : grow_coarse_first(mesh, grow_in, volume, options, observer, coarse_seconds);
   DeformResult result;
   if (coarse.cancelled)
     result.reason = StopReason::cancelled;
   else
-    result = Deformer(mesh, grow_in, volume, options, observer).run(coarse.cycles);
+    result = Deformer(mesh, grow_in, volume, run_options, observer).run(coarse.cycles);
+  result.voxel_seed = voxel.applied;
+  result.voxel_seed_voxels = voxel.voxels;
+  result.voxel_seed_background = voxel.background_voxels;
+  result.voxel_seed_left_out = voxel.left_out;
+  result.voxel_seed_surface_faces = voxel.surface_faces;
+  result.seconds.voxel_seed = voxel_seconds;
   result.coarse_levels = coarse.levels;
   result.coarse_cycles = coarse.cycles;
   result.handle_repair = options.handle_repair;

@@ -1,7 +1,9 @@
 #include "gdm/voxel_topology.h"
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
+#include <cstdlib>
 
 #include "gdm/voxel_flood.h"
 
@@ -50,6 +52,51 @@ std::size_t index(const Index3& n, int i, int j, int k) {
 }
 
 }  // namespace
+
+std::array<std::ptrdiff_t, 27> neighbour_offsets(const Index3& n) {
+  const std::ptrdiff_t sx = 1, sy = n[0], sz = static_cast<std::ptrdiff_t>(n[0]) * n[1];
+  std::array<std::ptrdiff_t, 27> offset{};
+  for (int s = 0; s < 27; ++s) offset[static_cast<std::size_t>(s)] = (s % 3 - 1) * sx + ((s / 3) % 3 - 1) * sy + (s / 9 - 1) * sz;
+  return offset;
+}
+
+SimplePointTest::SimplePointTest() {
+  const auto d = [](int s) { return std::array<int, 3>{s % 3 - 1, (s / 3) % 3 - 1, s / 9 - 1}; };
+  for (int s = 0; s < 27; ++s) {
+    if (s == kCentre) continue;
+    const auto a = d(s);
+    const int l1 = std::abs(a[0]) + std::abs(a[1]) + std::abs(a[2]);
+    n26_ |= 1u << s;
+    if (l1 <= 2) n18_ |= 1u << s;
+    if (l1 == 1) faces_ |= 1u << s;
+    for (int t = 0; t < 27; ++t) {
+      if (t == kCentre || t == s) continue;
+      const auto b = d(t);
+      const int dx = std::abs(a[0] - b[0]), dy = std::abs(a[1] - b[1]), dz = std::abs(a[2] - b[2]);
+      if (std::max({dx, dy, dz}) > 1) continue;
+      adjacent26_[static_cast<std::size_t>(s)] |= 1u << t;
+      if (dx + dy + dz == 1) adjacent6_[static_cast<std::size_t>(s)] |= 1u << t;
+    }
+  }
+}
+
+int SimplePointTest::components(std::uint32_t set, const std::array<std::uint32_t, 27>& adjacency,
+                                std::uint32_t must_meet) {
+  int count = 0;
+  while (set & must_meet) {
+    std::uint32_t component = set & must_meet & (~(set & must_meet) + 1u);  // lowest such bit
+    std::uint32_t frontier = component;
+    while (frontier) {
+      std::uint32_t grown = 0;
+      for (std::uint32_t f = frontier; f; f &= f - 1u) grown |= adjacency[static_cast<std::size_t>(__builtin_ctz(f))];
+      frontier = grown & set & ~component;
+      component |= frontier;
+    }
+    set &= ~component;
+    ++count;
+  }
+  return count;
+}
 
 std::int64_t euler_characteristic(const std::vector<char>& set, const Index3& n) {
   static const std::array<int, 256> table = window_table();

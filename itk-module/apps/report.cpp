@@ -56,6 +56,7 @@ std::string summary_text(const RunRecord& r) {
   if (r.model.coarse_levels > 0)
     s << "; grown first at " << r.model.coarse_levels << " coarser level(s), " << r.model.coarse_cycles << " of the cycles";
   s << "\n";
+  if (r.model.voxel_seed) s << "  " << gdm::voxel_seed_summary(r.model) << "\n";
   // The final stages, when they did anything.
   std::string finish;
   const auto part = [&](std::size_t n, const char* what) {
@@ -96,7 +97,9 @@ std::string summary_text(const RunRecord& r) {
     << "  time " << fixed(r.model_seconds, 2) << " s model, " << fixed(r.total_seconds, 2) << " s total; peak memory "
     << fixed(r.peak_memory_mb, 0) << " MB\n";
   const gdm::StageSeconds& t = r.model.seconds;
-  s << "  stages: growth " << fixed(t.growth, 2) << " s, global refinement " << fixed(t.refinement, 2)
+  s << "  stages: ";
+  if (r.model.voxel_seed) s << "voxel seed " << fixed(t.voxel_seed, 2) << " s, ";
+  s << "growth " << fixed(t.growth, 2) << " s, global refinement " << fixed(t.refinement, 2)
     << " s, refined stages " << fixed(t.refined_stages, 2) << " s, fit " << fixed(t.fit, 2) << " s, error lod "
     << fixed(t.error_lod, 2) << " s, triangle quality " << fixed(t.quality, 2) << " s, float snap "
     << fixed(t.float_snap, 2) << " s, cavity fill " << fixed(t.cavity_fill, 2) << " s, gap gate "
@@ -112,7 +115,8 @@ namespace {
 std::string stage_seconds_json(const RunRecord& r) {
   const gdm::StageSeconds& t = r.model.seconds;
   JsonObject o;
-  o.add("gap_gate", json_number(t.gap_gate))
+  o.add("voxel_seed", json_number(t.voxel_seed))
+      .add("gap_gate", json_number(t.gap_gate))
       .add("cavity_fill", json_number(t.cavity_fill))
       .add("growth", json_number(t.growth))
       .add("global_refinement", json_number(t.refinement))
@@ -184,6 +188,11 @@ std::string report_json(const RunRecord& r, const Options& options) {
       .add("cycles", json_number(r.model.cycles))
       .add("coarse_levels", json_number(r.model.coarse_levels))
       .add("coarse_cycles", json_number(r.model.coarse_cycles))
+      .add("voxel_seed", json_bool(r.model.voxel_seed))
+      .add("voxel_seed_voxels", json_number(r.model.voxel_seed_voxels))
+      .add("voxel_seed_background_voxels", json_number(r.model.voxel_seed_background))
+      .add("voxel_seed_left_out", json_number(r.model.voxel_seed_left_out))
+      .add("voxel_seed_surface_faces", json_number(r.model.voxel_seed_surface_faces))
       .add("global_refinements", json_number(r.model.global_refinements))
       .add("rejected_moves", json_number(r.model.rejected_moves))
       .add("flips", json_number(r.model.flips))

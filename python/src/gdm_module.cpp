@@ -637,6 +637,11 @@ py::dict model_report(const gdm::DeformResult& r, double seconds, double check_s
   d["cycles"] = r.cycles;
   d["coarse_levels"] = r.coarse_levels;
   d["coarse_cycles"] = r.coarse_cycles;
+  d["voxel_seed"] = r.voxel_seed;
+  d["voxel_seed_voxels"] = r.voxel_seed_voxels;
+  d["voxel_seed_background_voxels"] = r.voxel_seed_background;
+  d["voxel_seed_left_out"] = r.voxel_seed_left_out;
+  d["voxel_seed_surface_faces"] = r.voxel_seed_surface_faces;
   d["global_refinements"] = r.global_refinements;
   d["rejected_moves"] = r.rejected_moves;
   d["flips"] = r.flips;
@@ -699,6 +704,7 @@ py::dict model_report(const gdm::DeformResult& r, double seconds, double check_s
   d["seconds"] = seconds;
   // Where the time went, wall seconds per step (gdm::StageSeconds).
   py::dict stages;
+  stages["voxel_seed"] = r.seconds.voxel_seed;
   stages["gap_gate"] = r.seconds.gap_gate;
   stages["cavity_fill"] = r.seconds.cavity_fill;
   stages["growth"] = r.seconds.growth;

@@ -76,6 +76,13 @@ struct DeformOptions {
                                      // 1-to-4 as the seed of the next finer one; at full resolution the
                                      // vertices travel the last voxel or two (issue 17). Growing only;
                                      // a level needs 16 voxels per axis; 0 = off
+  bool voxel_seed = false;           // growing: the model starts from the surface of the object's voxels,
+                                     // grown from the seed's deepest voxel as a well-composed topological
+                                     // ball (voxel_seed.h) and reduced to the level of detail's faces,
+                                     // instead of growing from the seed: no front meets another inside
+                                     // the object (no seams where the object is a thin shell), and no
+                                     // cycles cross the object. The seed only says where the object is;
+                                     // no coarse levels; off = grown from the seed, as in the paper
   int max_cycles = 2000;             // hard limit on deformation cycles, all stages together
   double convergence_tolerance = 0.5;  // a vertex counts as moving beyond this, voxels
   int convergence_window = 5;        // converged when nothing moved for this many cycles
@@ -147,6 +154,7 @@ enum class StopReason { converged, max_cycles, face_limit, cancelled, border };
 // part of a result's geometry).
 struct StageSeconds {
   double gap_gate = 0.0;        // the gap gate's passage flood (passage.h)
+  double voxel_seed = 0.0;      // the voxel seed: ball, surface and reduction (voxel_seed.h)
   double cavity_fill = 0.0;     // the cavity fill and handle caps (cavities.h)
   double growth = 0.0;          // the cycles of stage 0 (the first convergence)
   double refinement = 0.0;      // the global 1-to-4 refinements and their checks (section 6)
@@ -157,7 +165,7 @@ struct StageSeconds {
   double float_snap = 0.0;      // the float-exact snap
   double topology = 0.0;        // topology exact: the cavity components and opened handles
   double total() const {
-    return gap_gate + cavity_fill + growth + refinement + refined_stages + fit + error_lod + quality + float_snap +
+    return gap_gate + voxel_seed + cavity_fill + growth + refinement + refined_stages + fit + error_lod + quality + float_snap +
            topology;
   }
 };
@@ -168,6 +176,11 @@ struct DeformResult {
   int cycles = 0;                 // all levels together (coarse_cycles of them at coarser levels)
   int coarse_levels = 0;          // coarser levels the model grew at first (DeformOptions::coarse_levels)
   int coarse_cycles = 0;          // their cycles
+  bool voxel_seed = false;        // the model started from the object's voxels (DeformOptions::voxel_seed)
+  std::size_t voxel_seed_voxels = 0;      // the ball's voxels
+  std::size_t voxel_seed_background = 0;  // of them, background voxels taken to keep it well-composed
+  std::size_t voxel_seed_left_out = 0;    // object voxels next to it it could not take
+  std::size_t voxel_seed_surface_faces = 0;  // faces of its surface before the reduction
   int global_refinements = 0;     // performed
   std::size_t rejected_moves = 0; // moves vetoed by the self-intersection guard
   std::size_t flips = 0;          // edge flips performed
@@ -228,6 +241,12 @@ struct DeformResult {
 // channels narrower than the gap closed (12,345 reachable); caps over the
 // bridged openings: 60 vertices". Empty when no gate was built.
 std::string gap_summary(const DeformResult& result);
+
+// What the voxel seed did, for logs: "voxel seed: 4,012,076 voxels (5,104 of
+// them background, taken to keep it well-composed; 959 object voxels next
+// to it left out), 1,310,156 faces reduced to 327,538". Empty when it was
+// not used.
+std::string voxel_seed_summary(const DeformResult& result);
 
 // What the face budget did, for logs: "face budget: 1500 faces requested,
 // 1498 obtained (1 subdivision, 2562 collapses)". Empty when it was off.

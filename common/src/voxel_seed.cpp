@@ -1,0 +1,359 @@
+#include "gdm/voxel_seed.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <queue>
+#include <utility>
+
+#include "gdm/distance_transform.h"
+#include "gdm/face_budget.h"
+#include "gdm/voxel_topology.h"
+
+namespace gdm {
+namespace {
+
+// Mean L1 norm of a unit normal over all directions: the cuberille's area
+// over the surface's own (a staircase's faces are the normal's projections).
+constexpr double kCuberilleAreaRatio = 1.5;
+// Voxels one step may take along with the one it adds to stay well-composed.
+constexpr int kMaxCompanions = 8;
+
+class BallGrower {
+ public:
+  BallGrower(const Volume& volume, const VoxelSeedOptions& o) : n_(volume.dims()), offset_(neighbour_offsets(n_)) {
+    const std::size_t count = volume.voxel_count();
+    std::vector<char> background(count, 0);
+    for (std::size_t c = 0; c < count; ++c) {
+      const double v = volume.values()[c];
+      background[c] = o.object_brighter ? !(v > o.threshold) : !(v < o.threshold);
+    }
+    const std::vector<double> d2 = squared_distance_to(background, n_, volume.spacing(), o.threads);
+    depth_.assign(d2.begin(), d2.end());
+    state_.assign(count, kFixed);
+    for (int k = 1; k < n_[2] - 1; ++k)
+      for (int j = 1; j < n_[1] - 1; ++j)
+        for (int i = 1; i < n_[0] - 1; ++i) {
+          const std::size_t c = index(i, j, k);
+          state_[c] = background[c] ? kSpare : kFree;
+        }
+  }
+
+  VoxelBall grow(const Index3& start) {
+    const std::size_t s = index(start[0], start[1], start[2]);
+    if (state_[s] == kFree) {
+      state_[s] = kReached;
+      queue_around(s);
+    }
+    while (!queue_.empty()) {
+      const std::size_t c = queue_.top().second;
+      queue_.pop();
+      if (state_[c] != kQueued) continue;  // taken meanwhile to keep the set well-composed
+      state_[c] = kFree;
+      take_if_simple(c);
+    }
+    return result();
+  }
+
+ private:
+  // kFixed: outside the grid's inner part (never taken); kSpare: background,
+  // taken only to keep the set well-composed; kFree / kQueued: object not
+  // (yet) taken; kReached: in the ball.
+  enum : char { kFixed = 0, kSpare = 1, kFree = 2, kQueued = 3, kReached = 4 };
+  using Entry = std::pair<std::uint64_t, std::size_t>;
+
+  std::size_t index(int i, int j, int k) const {
+    return static_cast<std::size_t>(i) +
+           static_cast<std::size_t>(n_[0]) * (static_cast<std::size_t>(j) + static_cast<std::size_t>(n_[1]) * static_cast<std::size_t>(k));
+  }
+  Index3 voxel(std::size_t c) const {
+    const std::size_t nx = static_cast<std::size_t>(n_[0]), ny = static_cast<std::size_t>(n_[1]);
+    return {static_cast<int>(c % nx), static_cast<int>((c / nx) % ny), static_cast<int>(c / (nx * ny))};
+  }
+  std::size_t neighbour(std::size_t c, int s) const {
+    return static_cast<std::size_t>(static_cast<std::ptrdiff_t>(c) + offset_[static_cast<std::size_t>(s)]);
+  }
+  bool in(std::size_t c) const { return state_[c] == kReached; }
+  bool takeable(std::size_t c) const { return state_[c] == kFree || state_[c] == kQueued || state_[c] == kSpare; }
+
+  // Deepest first; among equals, the lower index (the key is unique).
+  std::uint64_t key(std::size_t c) const {
+    std::uint32_t bits = 0;
+    std::memcpy(&bits, &depth_[c], sizeof bits);  // a non-negative float's bits order as the float
+    return (static_cast<std::uint64_t>(bits) << 32) | (0xffffffffu - static_cast<std::uint32_t>(c));
+  }
+
+  void queue_around(std::size_t c) {
+    for (int s = 0; s < 27; ++s) {
+      const std::size_t m = neighbour(c, s);
+      if (state_[m] != kFree) continue;
+      state_[m] = kQueued;
+      queue_.push({key(m), m});
+    }
+  }
+
+  bool simple(std::size_t c) const {
+    std::uint32_t reached = 0;
+    for (int s = 0; s < 27; ++s)
+      if (in(neighbour(c, s))) reached |= 1u << s;
+    return test_.simple_for_object(reached);
+  }
+
+  // The voxels that could undo the first critical configuration (see
+  // critical_configurations) among the windows holding c, object voxels
+  // first; false when there is none.
+  bool first_critical(std::size_t c, std::vector<std::size_t>& remedies) const {
+    const Index3 v = voxel(c);
+    remedies.clear();
+    const auto candidates = [&](const std::size_t* w, int count, bool only_pair, int t) {
+      for (int pass = 0; pass < 2; ++pass)
+        for (int u = 0; u < count; ++u) {
+          if (only_pair && u != t && u != count - 1 - t) continue;
+          const std::size_t m = w[u];
+          if (in(m) || !takeable(m) || (state_[m] == kSpare) != (pass == 1)) continue;
+          remedies.push_back(m);
+        }
+    };
+    for (int a = 0; a < 3; ++a) {
+      const int b = (a + 1) % 3;
+      for (int da = -1; da <= 0; ++da)
+        for (int db = -1; db <= 0; ++db) {
+          std::size_t w[4];
+          for (int t = 0; t < 4; ++t) {
+            Index3 u = v;
+            u[a] += da + (t & 1);
+            u[b] += db + (t >> 1);
+            w[t] = index(u[0], u[1], u[2]);
+          }
+          if (in(w[0]) == in(w[3]) && in(w[1]) == in(w[2]) && in(w[0]) != in(w[1])) {
+            candidates(w, 4, false, 0);
+            return true;
+          }
+        }
+    }
+    for (int dz = -1; dz <= 0; ++dz)
+      for (int dy = -1; dy <= 0; ++dy)
+        for (int dx = -1; dx <= 0; ++dx) {
+          std::size_t w[8];
+          int count = 0;
+          for (int t = 0; t < 8; ++t) {
+            w[t] = index(v[0] + dx + (t & 1), v[1] + dy + ((t >> 1) & 1), v[2] + dz + (t >> 2));
+            count += in(w[t]);
+          }
+          if (count != 2 && count != 6) continue;
+          for (int t = 0; t < 4; ++t) {
+            if (in(w[t]) != in(w[7 - t]) || in(w[t]) != (count == 2)) continue;
+            // Two opposite corners in the set: any other voxel joins them; all
+            // but two opposite corners: one of those two.
+            candidates(w, 8, count == 6, t);
+            return true;
+          }
+        }
+    return false;
+  }
+
+  // Takes c when it is simple and, with at most kMaxCompanions simple
+  // companions taken after it, the set stays well-composed; else leaves
+  // everything as it was.
+  void take_if_simple(std::size_t c) {
+    if (!simple(c)) return;
+    std::vector<std::pair<std::size_t, char>> taken{{c, state_[c]}};
+    state_[c] = kReached;
+    std::vector<std::size_t> remedies;
+    while (true) {
+      bool critical = false, remedied = false;
+      for (const auto& [m, old] : taken) {
+        if (!first_critical(m, remedies)) continue;
+        critical = true;
+        if (static_cast<int>(taken.size()) <= kMaxCompanions)
+          for (const std::size_t r : remedies)
+            if (simple(r)) {
+              taken.push_back({r, state_[r]});
+              state_[r] = kReached;
+              remedied = true;
+              break;
+            }
+        break;
+      }
+      if (!critical) break;
+      if (!remedied) {
+        for (auto it = taken.rbegin(); it != taken.rend(); ++it) state_[it->first] = it->second;
+        return;
+      }
+    }
+    for (const auto& [m, old] : taken) {
+      if (old == kSpare) ++background_taken_;
+      queue_around(m);
+    }
+  }
+
+  VoxelBall result() const {
+    VoxelBall ball;
+    ball.dims = n_;
+    ball.inside.assign(state_.size(), 0);
+    ball.background_voxels = background_taken_;
+    for (std::size_t c = 0; c < state_.size(); ++c) {
+      if (in(c)) {
+        ball.inside[c] = 1;
+        ++ball.voxels;
+        continue;
+      }
+      if (state_[c] != kFree) continue;
+      for (int s = 0; s < 27; ++s)
+        if (in(neighbour(c, s))) {
+          ++ball.left_out;
+          break;
+        }
+    }
+    return ball;
+  }
+
+  Index3 n_;
+  std::array<std::ptrdiff_t, 27> offset_;
+  std::vector<float> depth_;  // squared distance to the background, mm^2
+  std::vector<char> state_;
+  std::priority_queue<Entry> queue_;
+  SimplePointTest test_;
+  std::size_t background_taken_ = 0;
+};
+
+}  // namespace
+
+VoxelBall grow_voxel_ball(const Volume& volume, const VoxelSeedOptions& options, const Index3& start) {
+  return BallGrower(volume, options).grow(start);
+}
+
+std::size_t critical_configurations(const std::vector<char>& set, const Index3& n) {
+  const auto at = [&](int i, int j, int k) {
+    return set[static_cast<std::size_t>(i) + static_cast<std::size_t>(n[0]) * (static_cast<std::size_t>(j) + static_cast<std::size_t>(n[1]) * static_cast<std::size_t>(k))] != 0;
+  };
+  std::size_t count = 0;
+  for (int k = 0; k + 1 < n[2]; ++k)
+    for (int j = 0; j + 1 < n[1]; ++j)
+      for (int i = 0; i + 1 < n[0]; ++i) {
+        bool w[8];
+        int inside = 0;
+        for (int t = 0; t < 8; ++t) inside += (w[t] = at(i + (t & 1), j + ((t >> 1) & 1), k + (t >> 2)));
+        // The cube's three squares through its lower corner (the others are
+        // some other cube's), plus the squares on the grid's last planes.
+        const int squares[3][4] = {{0, 1, 2, 3}, {0, 1, 4, 5}, {0, 2, 4, 6}};
+        for (const auto& q : squares)
+          if (w[q[0]] == w[q[3]] && w[q[1]] == w[q[2]] && w[q[0]] != w[q[1]]) ++count;
+        if (inside == 2 || inside == 6)
+          for (int t = 0; t < 4; ++t)
+            if (w[t] == w[7 - t] && w[t] == (inside == 2)) ++count;
+      }
+  // Squares in the last plane of each axis.
+  for (int a = 0; a < 3; ++a) {
+    const int b = (a + 1) % 3, c = (a + 2) % 3;
+    for (int u = 0; u + 1 < n[b]; ++u)
+      for (int v = 0; v + 1 < n[c]; ++v) {
+        bool w[4];
+        for (int t = 0; t < 4; ++t) {
+          Index3 p{0, 0, 0};
+          p[a] = n[a] - 1;
+          p[b] = u + (t & 1);
+          p[c] = v + (t >> 1);
+          w[t] = at(p[0], p[1], p[2]);
+        }
+        if (w[0] == w[3] && w[1] == w[2] && w[0] != w[1]) ++count;
+      }
+  }
+  return count;
+}
+
+Mesh voxel_surface(const VoxelBall& ball, const Volume& volume) {
+  Mesh mesh;
+  const Index3& n = ball.dims;
+  const std::size_t cx = static_cast<std::size_t>(n[0]) + 1, cy = static_cast<std::size_t>(n[1]) + 1;
+  std::vector<int> corner_vertex(cx * cy * (static_cast<std::size_t>(n[2]) + 1), -1);
+  // Corner (i, j, k) of the grid of corners lies at continuous index (i, j, k) - 1/2.
+  const auto corner = [&](const Index3& p) {
+    int& id = corner_vertex[static_cast<std::size_t>(p[0]) + cx * (static_cast<std::size_t>(p[1]) + cy * static_cast<std::size_t>(p[2]))];
+    if (id < 0) id = mesh.add_vertex(to_point(volume.to_physical(Vec3(p[0] - 0.5, p[1] - 0.5, p[2] - 0.5)))).idx();
+    return Mesh::VertexHandle(id);
+  };
+  // Index space to physical space may mirror (a direction of determinant -1,
+  // a negative spacing never): the faces' order is then reversed.
+  const bool mirrored = volume.direction().determinant() < 0.0;
+  const auto inside = [&](int i, int j, int k) {
+    return ball.inside[static_cast<std::size_t>(i) + static_cast<std::size_t>(n[0]) * (static_cast<std::size_t>(j) + static_cast<std::size_t>(n[1]) * static_cast<std::size_t>(k))] != 0;
+  };
+  for (int k = 1; k + 1 < n[2]; ++k)
+    for (int j = 1; j + 1 < n[1]; ++j)
+      for (int i = 1; i + 1 < n[0]; ++i) {
+        if (!inside(i, j, k)) continue;
+        for (int a = 0; a < 3; ++a)
+          for (const int side : {-1, 1}) {
+            Index3 u{i, j, k};
+            u[a] += side;
+            if (inside(u[0], u[1], u[2])) continue;
+            // The face's corners counter-clockwise seen from outside: around
+            // axis a, (b, c) = (a + 1, a + 2) is right-handed.
+            const int b = (a + 1) % 3, c = (a + 2) % 3;
+            Index3 base{i, j, k};
+            base[a] += side > 0 ? 1 : 0;
+            Mesh::VertexHandle h[4];
+            const int db[4] = {0, 1, 1, 0}, dc[4] = {0, 0, 1, 1};
+            for (int t = 0; t < 4; ++t) {
+              Index3 p = base;
+              p[b] += db[t];
+              p[c] += dc[t];
+              h[t] = corner(p);
+            }
+            if ((side < 0) != mirrored) std::swap(h[1], h[3]);
+            mesh.add_face(h[0], h[1], h[2]);
+            mesh.add_face(h[0], h[2], h[3]);
+          }
+      }
+  return mesh;
+}
+
+VoxelSeed make_voxel_seed(const Volume& volume, const VoxelSeedOptions& options, const std::vector<Vec3>& seed_points) {
+  VoxelSeed seed;
+  const Index3& n = volume.dims();
+  // The deepest seed point on the object's side, inside the grid's inner part.
+  Index3 start{0, 0, 0};
+  double best = -1.0;
+  for (const Vec3& p : seed_points) {
+    const Vec3 c = volume.to_continuous_index(p);
+    const Index3 v{static_cast<int>(std::lround(c.x())), static_cast<int>(std::lround(c.y())),
+                   static_cast<int>(std::lround(c.z()))};
+    bool inner = true;
+    for (int a = 0; a < 3; ++a) inner = inner && v[a] >= 1 && v[a] + 1 < n[a];
+    if (!inner) continue;
+    const double value = volume.at(v[0], v[1], v[2]);
+    const bool object = options.object_brighter ? value > options.threshold : value < options.threshold;
+    if (!object) continue;
+    // Depth: the value's distance from T (the seed points lie close together).
+    const double depth = std::abs(value - options.threshold);
+    if (depth > best) {
+      best = depth;
+      start = v;
+    }
+  }
+  if (best < 0.0) return seed;
+  const VoxelBall ball = grow_voxel_ball(volume, options, start);
+  seed.voxels = ball.voxels;
+  seed.background_voxels = ball.background_voxels;
+  seed.left_out = ball.left_out;
+  seed.mesh = voxel_surface(ball, volume);
+  seed.surface_faces = seed.mesh.n_faces();
+  if (options.reduce && seed.mesh.n_faces() > 0) {
+    double area = 0.0;
+    for (auto f : seed.mesh.faces()) area += seed.mesh.calc_face_area(f);
+    const double voxel_area = volume.voxel_size() * volume.voxel_size();
+    ReduceOptions r;
+    r.faces = static_cast<std::size_t>(std::ceil(area / kCuberilleAreaRatio / (options.face_area * voxel_area)));
+    // Collapses that stay within half a voxel of the faces' planes (the
+    // staircase's steps) count as free and go shortest edge first.
+    r.noise = 0.5 * volume.voxel_size();
+    if (r.faces < seed.mesh.n_faces()) reduce_to_faces(seed.mesh, r);
+  }
+  seed.applied = true;
+  return seed;
+}
+
+}  // namespace gdm
