@@ -254,3 +254,31 @@ TEST(VoxelSeed, same_model_for_any_thread_count) {
   const Model one = run(s.volume, s.sdf, s.seed, true, 1), two = run(s.volume, s.sdf, s.seed, true, 2);
   test::expect_same_mesh(one.mesh, two.mesh);
 }
+
+// Slits of background narrower than two voxels are bridged (the grown
+// model's faces do not enter them either): the ball takes them; a slot
+// three voxels wide stays open, and the model follows it.
+TEST(VoxelSeed, slits_one_voxel_wide_are_bridged_and_wider_slots_followed) {
+  ph::Grid grid;
+  grid.dims = {48, 48, 48};
+  const auto block = ph::box(Vec3(8, 8, 8), Vec3(40, 40, 40));
+  // Slots 12 voxels deep into the block from its +x face: one 1 voxel wide
+  // (y in [15.5, 16.5]), one 3 voxels wide (y in [27.5, 30.5]).
+  const auto narrow = ph::box(Vec3(28, 15.5, 12), Vec3(44, 16.5, 36));
+  const auto wide = ph::box(Vec3(28, 27.5, 12), Vec3(44, 30.5, 36));
+  const auto sdf = ph::difference(ph::difference(block, narrow), wide);
+  const Volume v = ph::voxelize(grid, sdf, kBackground, kContrast);
+  const VoxelBall ball = grow_voxel_ball(v, seed_options(), {16, 24, 24});
+  const auto inside = [&](int i, int j, int k) { return ball.inside[static_cast<std::size_t>(i) + 48u * (j + 48u * k)] != 0; };
+  int narrow_taken = 0, wide_taken = 0;
+  for (int k = 14; k <= 34; ++k)
+    for (int i = 30; i <= 39; ++i) {
+      narrow_taken += inside(i, 16, k);
+      wide_taken += inside(i, 28, k) + inside(i, 29, k) + inside(i, 30, k);
+    }
+  std::printf("narrow slot: %d of %d voxels taken; wide slot: %d of %d\n", narrow_taken, 21 * 10, wide_taken, 3 * 21 * 10);
+  EXPECT_EQ(narrow_taken, 21 * 10);
+  EXPECT_EQ(wide_taken, 0);
+  EXPECT_EQ(critical_configurations(ball.inside, ball.dims), 0u);
+  expect_closed_genus_0_without_intersections(voxel_surface(ball, v), "slotted block");
+}

@@ -10,6 +10,7 @@
 
 #include "gdm/distance_transform.h"
 #include "gdm/face_budget.h"
+#include "gdm/voxel_flood.h"
 #include "gdm/voxel_topology.h"
 
 namespace gdm {
@@ -20,24 +21,39 @@ namespace {
 constexpr double kCuberilleAreaRatio = 1.5;
 // Voxels one step may take along with the one it adds to stay well-composed.
 constexpr int kMaxCompanions = 8;
+// The narrowest channel of background the ball leaves open, voxels.
+constexpr double kChannelWidth = 2.0;
 
 class BallGrower {
  public:
-  BallGrower(const Volume& volume, const VoxelSeedOptions& o) : n_(volume.dims()), offset_(neighbour_offsets(n_)) {
+  BallGrower(const Volume& volume, const VoxelSeedOptions& o, const Index3& start)
+      : n_(volume.dims()), offset_(neighbour_offsets(n_)) {
     const std::size_t count = volume.voxel_count();
-    std::vector<char> background(count, 0);
+    std::vector<char>& background = background_;
+    background.assign(count, 0);
     for (std::size_t c = 0; c < count; ++c) {
       const double v = volume.values()[c];
       background[c] = o.object_brighter ? !(v > o.threshold) : !(v < o.threshold);
     }
     const std::vector<double> d2 = squared_distance_to(background, n_, volume.spacing(), o.threads);
     depth_.assign(d2.begin(), d2.end());
+    // The object the model grows in: the start's 6-connected region, as the
+    // cavity fill sees it (cavities.h; its handles are capped there). Object
+    // voxels joined to it only by an edge or a corner would bring handles
+    // the fill never saw: they count as background here.
+    std::vector<char> region(count, 0);
+    const std::size_t s = index(start[0], start[1], start[2]);
+    if (!background[s]) {
+      region[s] = 1;
+      flood_by_runs(n_, false, region, {s}, [&](std::size_t c) { return !background[c]; });
+    }
+    const std::vector<char> thin = thin_background(background, volume.spacing());
     state_.assign(count, kFixed);
     for (int k = 1; k < n_[2] - 1; ++k)
       for (int j = 1; j < n_[1] - 1; ++j)
         for (int i = 1; i < n_[0] - 1; ++i) {
           const std::size_t c = index(i, j, k);
-          state_[c] = background[c] ? kSpare : kFree;
+          state_[c] = region[c] || thin[c] ? kFree : kSpare;
         }
   }
 
@@ -92,6 +108,43 @@ class BallGrower {
       state_[m] = kQueued;
       queue_.push({key(m), m});
     }
+  }
+
+  // Background no box of kChannelWidth voxel sizes a side (at least one
+  // voxel along each axis) fits in: slits and canals narrower than the
+  // channels a grown model enters (Deformer::object_ahead: two voxels
+  // wide). The ball may take them like the object: a model started from it
+  // bridges them as the grown model does, where following a crack one voxel
+  // wide deep into the object would put faces far from the object's surface
+  // (the tooth's root canals, open at the roots' tips at T = 115).
+  std::vector<char> thin_background(const std::vector<char>& background, const Vec3& spacing) const {
+    Index3 b;
+    const double least = std::min({spacing.x(), spacing.y(), spacing.z()});
+    for (int a = 0; a < 3; ++a) b[a] = std::max(1, static_cast<int>(std::ceil(kChannelWidth * least / spacing[a] - 1e-9)));
+    const std::size_t count = background.size();
+    // A box with its lowest corner at c lies in the background (erosion),
+    // then every voxel of such a box (dilation): the opening.
+    std::vector<char> core(count, 0), open(count, 0);
+    for (int k = 0; k + b[2] <= n_[2]; ++k)
+      for (int j = 0; j + b[1] <= n_[1]; ++j)
+        for (int i = 0; i + b[0] <= n_[0]; ++i) {
+          bool all = true;
+          for (int dz = 0; dz < b[2] && all; ++dz)
+            for (int dy = 0; dy < b[1] && all; ++dy)
+              for (int dx = 0; dx < b[0] && all; ++dx) all = background[index(i + dx, j + dy, k + dz)] != 0;
+          core[index(i, j, k)] = all;
+        }
+    for (int k = 0; k < n_[2]; ++k)
+      for (int j = 0; j < n_[1]; ++j)
+        for (int i = 0; i < n_[0]; ++i) {
+          if (!core[index(i, j, k)]) continue;
+          for (int dz = 0; dz < b[2]; ++dz)
+            for (int dy = 0; dy < b[1]; ++dy)
+              for (int dx = 0; dx < b[0]; ++dx) open[index(i + dx, j + dy, k + dz)] = 1;
+        }
+    std::vector<char> thin(count, 0);
+    for (std::size_t c = 0; c < count; ++c) thin[c] = background[c] && !open[c];
+    return thin;
   }
 
   bool simple(std::size_t c) const {
@@ -183,21 +236,18 @@ class BallGrower {
         return;
       }
     }
-    for (const auto& [m, old] : taken) {
-      if (old == kSpare) ++background_taken_;
-      queue_around(m);
-    }
+    for (const auto& [m, old] : taken) queue_around(m);
   }
 
   VoxelBall result() const {
     VoxelBall ball;
     ball.dims = n_;
     ball.inside.assign(state_.size(), 0);
-    ball.background_voxels = background_taken_;
     for (std::size_t c = 0; c < state_.size(); ++c) {
       if (in(c)) {
         ball.inside[c] = 1;
         ++ball.voxels;
+        if (background_[c]) ++ball.background_voxels;
         continue;
       }
       if (state_[c] != kFree) continue;
@@ -216,13 +266,13 @@ class BallGrower {
   std::vector<char> state_;
   std::priority_queue<Entry> queue_;
   SimplePointTest test_;
-  std::size_t background_taken_ = 0;
+  std::vector<char> background_;  // the voxels on the background's side of T
 };
 
 }  // namespace
 
 VoxelBall grow_voxel_ball(const Volume& volume, const VoxelSeedOptions& options, const Index3& start) {
-  return BallGrower(volume, options).grow(start);
+  return BallGrower(volume, options, start).grow(start);
 }
 
 std::size_t critical_configurations(const std::vector<char>& set, const Index3& n) {

@@ -47,14 +47,16 @@ struct VoxelBall {
   Index3 dims{0, 0, 0};          // the volume's grid
   std::vector<char> inside;      // 1 for the ball's voxels, x fastest
   std::size_t voxels = 0;        // the ball's voxels
-  std::size_t background_voxels = 0;  // of them, voxels on the background's side of T, taken to keep it
-                                      // well-composed
+  std::size_t background_voxels = 0;  // of them, voxels on the background's side of T: in slits and
+                                      // canals narrower than two voxels, or taken to keep it well-composed
   std::size_t left_out = 0;      // object voxels next to the ball it could not take (each would close a
                                  // loop round a handle, or break well-composedness)
 };
 
 // Grows the ball from voxel `start` (on the object's side of T, at least one
-// voxel from the grid's border; the ball never reaches the border's voxels).
+// voxel from the grid's border; the ball never reaches the border's voxels)
+// in the start's 6-connected region of the object (the cavity fill's "object
+// the model grows in"; other object voxels count as background).
 // Deterministic; work: a priority queue and a 27-voxel test per voxel of the
 // object it reaches, plus a distance transform of the grid.
 VoxelBall grow_voxel_ball(const Volume& volume, const VoxelSeedOptions& options, const Index3& start);

@@ -55,6 +55,7 @@ struct Settings {
   bool sweep_cgal = false;         // --faces-sweep: CGAL Mesh_3 matched to gdm's counts too (slow)
   bool sweep_scans = false;        // --faces-sweep: the real scans (--data) instead of the phantoms
   bool sweep_exact = false;        // --faces-sweep: gdm with topology exact (handles opened, cavities inward)
+  bool sweep_voxel_seed = false;   // --faces-sweep: gdm started from the voxel seed (voxel_seed)
   bool sweep_cut = false;          // --faces-sweep: gdm with handle_repair cut (handles cut across their bodies)
   std::vector<double> budgets;     // --faces-sweep: face budgets as counts (instead of --fractions)
   PhantomNoise noise;              // the Gaussian-noise phantoms' sigma and first seed
@@ -108,6 +109,9 @@ std::vector<Method> methods() {
          if (o.mode == gdm::Mode::grow && o.topology == gdm::Topology::solid) o.handle_repair = gdm::HandleRepair::cut;
        },
        false, 0, false, true},
+      // Stop 54: the model started from the object's voxels (voxel_seed.h) instead of grown from the seed.
+      {"gdm-voxel-seed", "our GDM, started from the voxel seed (voxel_seed)", "our GDM (voxel seed)", Kind::gdm,
+       [](gdm::DeformOptions& o) { o.voxel_seed = true; }, false, 0, false, true},
       {"fe", "VTK flying edges", "flying edges", Kind::flying_edges},
       {"slicer", "Slicer chain (FE + sinc + quadric, to our faces)", "Slicer chain", Kind::slicer_chain},
       {"itk-mc", "ITK BinaryMask3DMeshSource", "ITK mask MC", Kind::itk_binary_mask},
@@ -845,14 +849,19 @@ struct Sweep {
 // --sweep-exact runs gdm with topology exact (its handles opened, its
 // enclosed cavities as inward components), as a user keeping the data's
 // topology would; --sweep-cut with its handles cut across their bodies
-// (handle_repair cut) where it grows.
+// (handle_repair cut) where it grows; --sweep-voxel-seed started from the
+// voxel seed (voxel_seed).
 int faces_sweep(const Settings& s) {
   const int threads = thread_count(s);
   set_vtk_threads(threads);
   const auto all = methods();
   const auto exact = std::find_if(all.begin(), all.end(), [](const Method& m) { return m.id == "gdm-exact"; });
   const auto cut = std::find_if(all.begin(), all.end(), [](const Method& m) { return m.id == "gdm-cut"; });
-  const Method gdm_method = s.sweep_exact && exact != all.end() ? *exact : s.sweep_cut && cut != all.end() ? *cut : all.front();
+  const auto voxel = std::find_if(all.begin(), all.end(), [](const Method& m) { return m.id == "gdm-voxel-seed"; });
+  const Method gdm_method = s.sweep_exact && exact != all.end()        ? *exact
+                            : s.sweep_cut && cut != all.end()          ? *cut
+                            : s.sweep_voxel_seed && voxel != all.end() ? *voxel
+                                                                       : all.front();
   std::ofstream csv;
   if (!s.out.empty()) {
     fs::create_directories(s.out);
@@ -1306,6 +1315,7 @@ int main(int argc, char** argv) {
       else if (a == "--sweep-scans") s.sweep_scans = true;
       else if (a == "--sweep-exact") s.sweep_exact = true;
       else if (a == "--sweep-cut") s.sweep_cut = true;
+      else if (a == "--sweep-voxel-seed") s.sweep_voxel_seed = true;
       else if (a == "--budgets") {
         std::stringstream list(value());
         for (std::string item; std::getline(list, item, ',');) s.budgets.push_back(std::stod(item));
@@ -1317,7 +1327,7 @@ int main(int argc, char** argv) {
       }
       else {
         std::fprintf(stderr, "gdm_benchmark_study: unknown argument '%s'\nusage: gdm_benchmark_study --out DIR [--quick] "
-                             "[--runs N] [--threads N] [--data DIR] [--commit TEXT] [--budget SECONDS] [--only CASE-ID-PART]... [--dump] [--noise-sigma S] [--noise-seed N] [--faces-sweep [--fractions F,F,...|--budgets N,N,...] [--sweep-cgal] [--sweep-scans] [--sweep-exact] [--sweep-cut]]\n", a.c_str());
+                             "[--runs N] [--threads N] [--data DIR] [--commit TEXT] [--budget SECONDS] [--only CASE-ID-PART]... [--dump] [--noise-sigma S] [--noise-seed N] [--faces-sweep [--fractions F,F,...|--budgets N,N,...] [--sweep-cgal] [--sweep-scans] [--sweep-exact] [--sweep-cut] [--sweep-voxel-seed]]\n", a.c_str());
         return 2;
       }
     } catch (const std::exception&) {
