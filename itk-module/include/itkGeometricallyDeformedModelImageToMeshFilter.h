@@ -350,6 +350,16 @@ public:
   itkSetClampMacro(NumberOfCoarseLevels, unsigned int, 0, 4);
   itkGetConstMacro(NumberOfCoarseLevels, unsigned int);
 
+  /** Growing, start from the surface of the object's voxels instead of
+   * growing from the seed (off by default): the voxels are taken from the
+   * seed's deepest one as a well-composed topological ball, its surface is
+   * reduced to the level of detail's faces, and the model's vertices travel
+   * the last voxel. No seams where a grown front would meet itself in a thin
+   * shell (a scalp); the seed only says where the object is. */
+  itkSetMacro(VoxelSeed, bool);
+  itkGetConstMacro(VoxelSeed, bool);
+  itkBooleanMacro(VoxelSeed);
+
   /** Once the last stage converged, refine locally where faces are too large
    * to enter a channel the image shows, so channels wider than the gap are
    * followed at any level of detail (a tooth's canals). On by default; off,
@@ -641,6 +651,7 @@ private:
   double        m_GapSize;
   bool          m_RefineChannels;
   unsigned int  m_NumberOfCoarseLevels;
+  bool          m_VoxelSeed;
   bool          m_FillCavities;
   bool          m_SubvoxelFit;
   bool          m_SharpEdges;

@@ -64,6 +64,7 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::SetDeform
   m_GapSize = o.gap;
   m_RefineChannels = o.refine_channels;
   m_NumberOfCoarseLevels = static_cast<unsigned int>(o.coarse_levels);
+  m_VoxelSeed = o.voxel_seed;
   m_FillCavities = o.fill_cavities;
   m_SubvoxelFit = o.subvoxel_fit;
   m_SharpEdges = o.sharp_edges;
@@ -156,6 +157,7 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::GetDeform
   o.gap = m_GapSize;
   o.refine_channels = m_RefineChannels;
   o.coarse_levels = static_cast<int>(m_NumberOfCoarseLevels);
+  o.voxel_seed = m_VoxelSeed;
   o.fill_cavities = m_FillCavities;
   o.subvoxel_fit = m_SubvoxelFit;
   o.sharp_edges = m_SharpEdges;
@@ -377,6 +379,7 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::PrintSelf
   os << indent << "GapSize: " << m_GapSize << std::endl;
   os << indent << "RefineChannels: " << (m_RefineChannels ? "On" : "Off") << std::endl;
   os << indent << "NumberOfCoarseLevels: " << m_NumberOfCoarseLevels << std::endl;
+  os << indent << "VoxelSeed: " << (m_VoxelSeed ? "On" : "Off") << std::endl;
   os << indent << "FillCavities: " << m_FillCavities << std::endl;
   os << indent << "SubvoxelFit: " << (m_SubvoxelFit ? "On" : "Off") << std::endl;
   os << indent << "SharpEdges: " << (m_SharpEdges ? "On" : "Off") << std::endl;

@@ -165,6 +165,13 @@ ExerciseBasicsAndSetGet()
   filter->SetOption("coarse_levels", 1.0);
   ITK_TEST_SET_GET_VALUE(1u, filter->GetNumberOfCoarseLevels());
   filter->SetNumberOfCoarseLevels(0);
+  // VoxelSeed (off by default) reaches the core's options, and SetOption reaches it.
+  ITK_TEST_SET_GET_VALUE(false, filter->GetVoxelSeed());
+  ITK_TEST_SET_GET_BOOLEAN(filter, VoxelSeed, true);
+  filter->VoxelSeedOn();
+  ITK_TEST_SET_GET_VALUE(true, filter->GetDeformOptions().voxel_seed);
+  filter->SetOption("voxel_seed", 0.0);
+  ITK_TEST_SET_GET_VALUE(false, filter->GetVoxelSeed());
   ITK_TEST_SET_GET_BOOLEAN(filter, FloatExactOutput, true);
   filter->FloatExactOutputOff();
   FilterType::PointType center;

@@ -386,8 +386,10 @@ TEST(itkGDMSphere, AHandleIsCappedAcrossItsHole)
     it.Set(static_cast<float>(50.0 + 150.0 * std::clamp(0.5 - tube, 0.0, 1.0)));
   }
   using FilterType = itk::GeometricallyDeformedModelImageToMeshFilter<TorusImage, itk::Mesh<float, 3>>;
-  const auto run = [&](bool cap, const std::string & topology, const std::string & repair = "membrane") {
+  const auto run = [&](bool cap, const std::string & topology, const std::string & repair = "membrane",
+                       bool voxelSeed = false) {
     auto filter = FilterType::New();
+    filter->SetVoxelSeed(voxelSeed);
     filter->SetInput(image);
     filter->SetThreshold(125.0);
     FilterType::PointType seed;
@@ -431,4 +433,15 @@ TEST(itkGDMSphere, AHandleIsCappedAcrossItsHole)
   EXPECT_EQ(cut->GetNumberOfCappedHandles(), 1u);
   EXPECT_EQ(cut->GetGenus(), 0u);
   EXPECT_EQ(cut->GetNumberOfContactRegions(), 0u);
+  // Started from the object's voxels (VoxelSeed) after the same cap: genus 0,
+  // one closed surface meeting itself nowhere, as close to the capped torus.
+  const auto voxel = run(true, "solid", "membrane", true);
+  EXPECT_TRUE(voxel->GetVoxelSeed());
+  EXPECT_EQ(voxel->GetNumberOfCappedHandles(), 1u);
+  EXPECT_EQ(voxel->GetGenus(), 0u);
+  EXPECT_EQ(voxel->GetNumberOfComponents(), 1u);
+  EXPECT_EQ(voxel->GetNumberOfContactRegions(), 0u);
+  EXPECT_EQ(voxel->GetSeamArea(), 0.0);
+  EXPECT_NEAR(voxel->GetOutput()->GetNumberOfCells(), capped->GetOutput()->GetNumberOfCells(),
+              0.5 * capped->GetOutput()->GetNumberOfCells());
 }
