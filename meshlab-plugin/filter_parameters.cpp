@@ -85,7 +85,11 @@ std::vector<FilterParam> make(Filter filter) {
                     1.0),
               param("seed_point", ParamKind::point, "Seed point (mm)",
                     "Centre of the seed sphere when the automatic seed is off; inside the object."),
-              option("seed_radius", "Seed radius", "0 = automatic: half the depth, or two voxels")});
+              option("seed_radius", "Seed radius", "0 = automatic: half the depth, or two voxels"),
+              option("voxel_seed", "Start from the object's voxels",
+                     "The model starts from the surface of the object's voxels (a topological ball taken from the "
+                     "seed) instead of growing from the seed: no seams where fronts meet in a thin shell such as a "
+                     "scalp; slower on large scans")});
       append(volume_tail());
       break;
     case Filter::deform_mesh:

@@ -22,6 +22,7 @@ void log_result(const gdm::PipelineResult& r, LogLines* log) {
                  " moves vetoed by the self-intersection guard)");
   if (d.gap_closed_voxels > 0) log->push_back(gdm::gap_summary(d));
   if (d.face_budget > 0) log->push_back(gdm::budget_summary(d));
+  if (d.voxel_seed) log->push_back(gdm::voxel_seed_summary(d));
   if (d.cavities > 0) log->push_back(gdm::cavity_summary(d));
   if (d.handles > 0) log->push_back(gdm::handle_summary(d));
   if (d.topology == gdm::Topology::exact) log->push_back(gdm::topology_summary(d));
