@@ -298,3 +298,34 @@ def test_face_budget():
     assert model["budget_collapses"] > 0 and r.report["parameters"]["face_budget"] == 400
     with pytest.raises(gdm.InvalidOption, match="face_budget must be 0 \\(off\\) or in \\[20, 1e\\+09\\], got 10"):
         gdm.extract_surface(volume, threshold=50, face_budget=10)
+
+
+def test_a_shell_started_from_its_voxels_has_no_seams():
+    """voxel_seed: a shell 4 voxels thick over a dark layer round a core,
+    reached from the core through one bridge (the volume's lower cut opens
+    the dark layer to the outside). Grown from the core, the model meets
+    itself on the shell's far side (seams); started from the object's voxels
+    it does not, and the report says how the seed was made."""
+    nx, nz = 72, 64
+    c = np.array([(nx - 1) / 2.0, (nx - 1) / 2.0, (nz - 1) / 2.0 + 8.0])  # the volume cuts the layer above
+    i, j, k = np.meshgrid(np.arange(nx, dtype=float), np.arange(nx, dtype=float), np.arange(nz, dtype=float),
+                          indexing="ij")
+    r = np.sqrt((i - c[0]) ** 2 + (j - c[1]) ** 2 + (k - c[2]) ** 2)
+    shell = np.maximum(r - 28.0, 24.0 - r)
+    core = r - 20.0
+    t = np.clip((i - c[0] - 18.0) / 8.0, 0.0, 1.0)  # a bridge along +x from the core to the shell
+    bridge = np.sqrt((i - c[0] - 18.0 - 8.0 * t) ** 2 + (j - c[1]) ** 2 + (k - c[2]) ** 2) - 3.0
+    sdf = np.minimum(np.minimum(shell, core), bridge)
+    volume = np.asfortranarray((50.0 + 150.0 * np.clip(0.5 - sdf, 0.0, 1.0)).astype(np.float32))
+    seed = tuple(c)
+    grown = gdm.extract_surface(volume, threshold=125, seed=seed, seed_radius=3.0)
+    voxel = gdm.extract_surface(volume, threshold=125, seed=seed, seed_radius=3.0, voxel_seed=True)
+    assert not grown.report["model"]["voxel_seed"]
+    model = voxel.report["model"]
+    assert model["voxel_seed"] and model["voxel_seed_voxels"] > 0
+    assert model["voxel_seed_surface_faces"] > len(voxel.faces)
+    assert model["stage_seconds"]["voxel_seed"] > 0.0
+    assert grown.report["contacts"]["seam_area_mm2"] > 200.0
+    assert voxel.report["contacts"]["seam_area_mm2"] < 0.05 * grown.report["contacts"]["seam_area_mm2"]
+    assert voxel.report["mesh"]["genus"] == 0 and voxel.report["mesh"]["closed"]
+    assert voxel.report["mesh"]["self_intersections"] == 0
