@@ -119,7 +119,8 @@ std::string voxel_seed_summary(const DeformResult& r) {
   if (!r.voxel_seed) return {};
   std::ostringstream s;
   s << "voxel seed: " << r.voxel_seed_voxels << " voxels (" << r.voxel_seed_background
-    << " of them background, taken to keep it well-composed; " << r.voxel_seed_left_out
+    << " of them background: slits narrower than two voxels, or taken to keep it well-composed; "
+    << r.voxel_seed_left_out
     << " object voxels next to it left out), its surface's " << r.voxel_seed_surface_faces
     << " faces reduced to the level of detail before the model ran";
   return s.str();

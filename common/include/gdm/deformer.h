@@ -178,7 +178,7 @@ struct DeformResult {
   int coarse_cycles = 0;          // their cycles
   bool voxel_seed = false;        // the model started from the object's voxels (DeformOptions::voxel_seed)
   std::size_t voxel_seed_voxels = 0;      // the ball's voxels
-  std::size_t voxel_seed_background = 0;  // of them, background voxels taken to keep it well-composed
+  std::size_t voxel_seed_background = 0;  // of them, background voxels (slits, well-composedness)
   std::size_t voxel_seed_left_out = 0;    // object voxels next to it it could not take
   std::size_t voxel_seed_surface_faces = 0;  // faces of its surface before the reduction
   int global_refinements = 0;     // performed
@@ -242,10 +242,11 @@ struct DeformResult {
 // bridged openings: 60 vertices". Empty when no gate was built.
 std::string gap_summary(const DeformResult& result);
 
-// What the voxel seed did, for logs: "voxel seed: 4,012,076 voxels (5,104 of
-// them background, taken to keep it well-composed; 959 object voxels next
-// to it left out), 1,310,156 faces reduced to 327,538". Empty when it was
-// not used.
+// What the voxel seed did, for logs: "voxel seed: 400698 voxels (331 of them
+// background: slits narrower than two voxels, or taken to keep it
+// well-composed; 0 object voxels next to it left out), its surface's 105152
+// faces reduced to the level of detail before the model ran". Empty when it
+// was not used.
 std::string voxel_seed_summary(const DeformResult& result);
 
 // What the face budget did, for logs: "face budget: 1500 faces requested,

@@ -850,7 +850,7 @@ struct Sweep {
 // enclosed cavities as inward components), as a user keeping the data's
 // topology would; --sweep-cut with its handles cut across their bodies
 // (handle_repair cut) where it grows; --sweep-voxel-seed started from the
-// voxel seed (voxel_seed).
+// voxel seed (voxel_seed), also with either of the two.
 int faces_sweep(const Settings& s) {
   const int threads = thread_count(s);
   set_vtk_threads(threads);
@@ -858,10 +858,17 @@ int faces_sweep(const Settings& s) {
   const auto exact = std::find_if(all.begin(), all.end(), [](const Method& m) { return m.id == "gdm-exact"; });
   const auto cut = std::find_if(all.begin(), all.end(), [](const Method& m) { return m.id == "gdm-cut"; });
   const auto voxel = std::find_if(all.begin(), all.end(), [](const Method& m) { return m.id == "gdm-voxel-seed"; });
-  const Method gdm_method = s.sweep_exact && exact != all.end()        ? *exact
-                            : s.sweep_cut && cut != all.end()          ? *cut
-                            : s.sweep_voxel_seed && voxel != all.end() ? *voxel
-                                                                       : all.front();
+  Method gdm_method = s.sweep_exact && exact != all.end()        ? *exact
+                      : s.sweep_cut && cut != all.end()          ? *cut
+                      : s.sweep_voxel_seed && voxel != all.end() ? *voxel
+                                                                 : all.front();
+  if (s.sweep_voxel_seed && gdm_method.id != "gdm-voxel-seed") {  // with --sweep-cut or --sweep-exact
+    gdm_method.id += "-voxel-seed";
+    gdm_method.configure = [then = gdm_method.configure](gdm::DeformOptions& o) {
+      if (then) then(o);
+      o.voxel_seed = true;
+    };
+  }
   std::ofstream csv;
   if (!s.out.empty()) {
     fs::create_directories(s.out);
