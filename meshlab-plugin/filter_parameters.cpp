@@ -87,9 +87,7 @@ std::vector<FilterParam> make(Filter filter) {
                     "Centre of the seed sphere when the automatic seed is off; inside the object."),
               option("seed_radius", "Seed radius", "0 = automatic: half the depth, or two voxels"),
               option("voxel_seed", "Start from the object's voxels",
-                     "The model starts from the surface of the object's voxels (a topological ball taken from the "
-                     "seed) instead of growing from the seed: no seams where fronts meet in a thin shell such as a "
-                     "scalp; slower on large scans")});
+                     "Start from the object's voxel surface, not grow: no seams in thin shells; slower")});
       append(volume_tail());
       break;
     case Filter::deform_mesh:
