@@ -17,7 +17,7 @@
 #include "gdm/phantoms.h"
 #include "gdm/seed.h"
 #include "gdm/volume.h"
-#include "anisotropic_ellipsoid.h"
+#include "accuracy_phantoms.h"
 #include "mesh_expectations.h"
 #include "phantom_case.h"
 #include "surface_samples.h"
@@ -52,31 +52,7 @@ Grown grow(const Case& c, int coarse_levels, int threads = 0, double seed_radius
   return run;
 }
 
-std::vector<Case> test_phantoms() {
-  std::vector<Case> cases;
-  ph::Grid grid;  // 64^3, 1 mm
-  const Vec3 c = grid.center();
-  cases.push_back({"sphere r 20, noise 6 %",
-                   ph::with_gaussian_noise(ph::voxelize(grid, ph::sphere(c, 20.0), kBackground, kContrast), 0.06 * kContrast, 801),
-                   [c](const Vec3& p) { return (p - c).norm() - 20.0; }, c + Vec3(1.5, -2.0, 0.5)});
-  const auto cube = ph::difference(ph::box(Vec3(12, 12, 12), Vec3(52, 52, 52)), ph::box(Vec3(32, 32, 32), Vec3(60, 60, 60)));
-  cases.push_back({"cube with a corner missing, clean", ph::voxelize(grid, cube, kBackground, kContrast), cube, Vec3(24, 24, 24)});
-  const auto branching = ph::branching(c);
-  cases.push_back({"branching, noise 8 %",
-                   ph::with_gaussian_noise(ph::voxelize(grid, branching, kBackground, kContrast), 0.08 * kContrast, 802),
-                   branching, c + Vec3(0, 0, 10)});
-  const auto tube = ph::bent_tube(c, 18.0, 6.0, 1.5 * M_PI);
-  cases.push_back({"C tube, noise 3 %",
-                   ph::with_gaussian_noise(ph::voxelize(grid, tube, kBackground, kContrast), 0.03 * kContrast, 803), tube,
-                   c + Vec3(18.0, 0.5, 0.0)});
-  const auto e = test::anisotropic_ellipsoid();
-  const Vec3 ec = e.center, radii = e.radii;
-  cases.push_back({"ellipsoid 0.5x0.5x2, noise 5 %",
-                   ph::with_gaussian_noise(ph::voxelize(e.grid, ph::ellipsoid(ec, radii), kBackground, kContrast),
-                                           0.05 * kContrast, 804),
-                   [=](const Vec3& p) { return ph::distance_to_ellipsoid(p, ec, radii); }, ec});
-  return cases;
-}
+std::vector<Case> test_phantoms() { return test::accuracy_phantoms(801); }
 
 }  // namespace
 
@@ -123,7 +99,7 @@ TEST(CoarseLevels, reduce_by_two_keeps_each_blocks_extreme) {
 // the triangle-quality pass is held to.
 TEST(CoarseLevels, meet_the_single_level_accuracy_limits) {
   for (const Case& c : test_phantoms()) {
-    const double mean_limit = c.name.rfind("ellipsoid", 0) == 0 ? 0.09 : 0.08, p95_limit = 0.25;
+    const double mean_limit = test::accuracy_mean_limit(c), p95_limit = 0.25;
     const Grown single = grow(c, 0);
     EXPECT_EQ(single.result.coarse_levels, 0);
     EXPECT_LE(single.distance.mean, mean_limit) << c.name;

@@ -18,6 +18,7 @@
 #include "gdm/self_contact.h"
 #include "gdm/voxel_seed.h"
 #include "gdm/voxel_topology.h"
+#include "accuracy_phantoms.h"
 #include "mesh_expectations.h"
 #include "phantom_case.h"
 #include "surface_samples.h"
@@ -221,28 +222,12 @@ TEST(VoxelSeed, a_thin_shell_reached_through_one_bridge_has_no_seams) {
 // limits (mean at most 0.08 voxel, 0.09 on the 0.5 x 0.5 x 2 mm ellipsoid;
 // p95 at most 0.25), noisy and clean, with every guarantee.
 TEST(VoxelSeed, models_from_it_meet_the_grown_accuracy_limits) {
-  std::vector<Case> cases;
-  ph::Grid grid;
-  const Vec3 c = grid.center();
-  cases.push_back({"sphere r 20, noise 6 %",
-                   ph::with_gaussian_noise(ph::voxelize(grid, ph::sphere(c, 20.0), kBackground, kContrast), 0.06 * kContrast, 911),
-                   [c](const Vec3& p) { return (p - c).norm() - 20.0; }, c + Vec3(1.5, -2.0, 0.5)});
-  const auto cube = ph::difference(ph::box(Vec3(12, 12, 12), Vec3(52, 52, 52)), ph::box(Vec3(32, 32, 32), Vec3(60, 60, 60)));
-  cases.push_back({"cube with a corner missing, clean", ph::voxelize(grid, cube, kBackground, kContrast), cube, Vec3(24, 24, 24)});
-  const auto branching = ph::branching(c);
-  cases.push_back({"branching, noise 8 %",
-                   ph::with_gaussian_noise(ph::voxelize(grid, branching, kBackground, kContrast), 0.08 * kContrast, 912),
-                   branching, c + Vec3(0, 0, 10)});
-  const auto tube = ph::bent_tube(c, 18.0, 6.0, 1.5 * M_PI);
-  cases.push_back({"C tube, noise 3 %",
-                   ph::with_gaussian_noise(ph::voxelize(grid, tube, kBackground, kContrast), 0.03 * kContrast, 913), tube,
-                   c + Vec3(18.0, 0.5, 0.0)});
-  for (const Case& k : cases) {
+  for (const Case& k : test::accuracy_phantoms(911)) {
     std::printf("%s\n", k.name.c_str());
     const Model voxel = run(k.volume, k.distance, k.seed, true);
     EXPECT_TRUE(voxel.result.voxel_seed) << k.name;
     expect_closed_genus_0_without_intersections(voxel.mesh, k.name);
-    EXPECT_LE(voxel.distance.mean, 0.08) << k.name;
+    EXPECT_LE(voxel.distance.mean, test::accuracy_mean_limit(k)) << k.name;
     EXPECT_LE(voxel.distance.p95, 0.25) << k.name;
   }
 }
