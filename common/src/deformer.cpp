@@ -122,8 +122,7 @@ std::string voxel_seed_summary(const DeformResult& r) {
     << " of them background: slits narrower than two voxels, or taken to keep it well-composed; "
     << r.voxel_seed_left_out
     << " object voxels next to it left out), its surface's " << r.voxel_seed_surface_faces
-    << " faces reduced to the level of detail" << (r.voxel_seed_rereduced ? " (twice: the fast reduction cut itself)" : "")
-    << " before the model ran";
+    << " faces reduced to the level of detail before the model ran";
   return s.str();
 }
 
@@ -2073,7 +2072,6 @@ DeformResult deform(Mesh& mesh, const Volume& volume, const DeformOptions& reque
   result.voxel_seed_background = voxel.background_voxels;
   result.voxel_seed_left_out = voxel.left_out;
   result.voxel_seed_surface_faces = voxel.surface_faces;
-  result.voxel_seed_rereduced = voxel.rereduced;
   result.seconds.voxel_seed = voxel_seconds;
   result.coarse_levels = coarse.levels;
   result.coarse_cycles = coarse.cycles;

@@ -215,12 +215,6 @@ void CollapseChecker::note_vertex(Mesh::VertexHandle v) {
 
 namespace {
 
-bool shares_a_corner(const Tri& a, const Tri& b) {
-  for (const int i : a.id)
-    if (i == b.id[0] || i == b.id[1] || i == b.id[2]) return true;
-  return false;
-}
-
 // A face a collapse moves, before and after: not degenerate, turned by less
 // than the angle whose cosine is min_cos, and no new angle below min_angle
 // or below the face's own smallest angle when that was already lower (never
@@ -293,10 +287,9 @@ bool CollapseChecker::geometry_ok(Mesh::HalfedgeHandle h, const CollapseOptions&
   });
   if (!all_kept) return false;
   // The moved faces among themselves (the grid holds their old boxes), then against the rest.
-  if (o.test_neighbours)  // else skipped: they all share the kept vertex
-    for (std::size_t i = 0; i < created.size(); ++i)
-      for (std::size_t j = i + 1; j < created.size(); ++j)
-        if (triangles_intersect_improperly(created[i].p, created[i].id, created[j].p, created[j].id)) return false;
+  for (std::size_t i = 0; i < created.size(); ++i)
+    for (std::size_t j = i + 1; j < created.size(); ++j)
+      if (triangles_intersect_improperly(created[i].p, created[i].id, created[j].p, created[j].id)) return false;
   for (const Tri& t : created) {
     const Vec3 lo = t.p[0].cwiseMin(t.p[1]).cwiseMin(t.p[2]), hi = t.p[0].cwiseMax(t.p[1]).cwiseMax(t.p[2]);
     bool clear = true;
@@ -305,7 +298,6 @@ bool CollapseChecker::geometry_ok(Mesh::HalfedgeHandle h, const CollapseOptions&
       if (!clear || (mesh.has_face_status() && mesh.status(fg).deleted()) || fg == gone0 || fg == gone1) return;
       const Tri other = moved(fg);
       if (other.id == t.id) return;  // the triangle itself
-      if (!o.test_neighbours && shares_a_corner(t, other)) return;
       const Vec3 olo = other.p[0].cwiseMin(other.p[1]).cwiseMin(other.p[2]);
       const Vec3 ohi = other.p[0].cwiseMax(other.p[1]).cwiseMax(other.p[2]);
       if ((olo.array() > hi.array()).any() || (ohi.array() < lo.array()).any()) return;

@@ -151,7 +151,6 @@ class Reducer {
     CollapseOptions c;
     c.min_angle = floor;
     c.max_normal_change = o_.max_normal_change;
-    c.test_neighbours = o_.test_neighbours;
     queue_ = {};
     for (auto h : mesh_.halfedges())
       if (!mesh_.status(mesh_.edge_handle(h)).deleted() && (!o_.move_vertices || h.idx() % 2 == 0)) queue_halfedge(h);

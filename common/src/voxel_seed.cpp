@@ -10,7 +10,6 @@
 
 #include "gdm/distance_transform.h"
 #include "gdm/face_budget.h"
-#include "gdm/mesh_checks.h"
 #include "gdm/voxel_flood.h"
 #include "gdm/voxel_topology.h"
 
@@ -401,23 +400,7 @@ VoxelSeed make_voxel_seed(const Volume& volume, const VoxelSeedOptions& options,
     // Collapses that stay within half a voxel of the faces' planes (the
     // staircase's steps) count as free and go shortest edge first.
     r.noise = 0.5 * volume.voxel_size();
-    if (r.faces < seed.mesh.n_faces()) {
-      // First without the exact tests against the faces around the moved
-      // ones (most of the tests, and on the staircase's coplanar faces the
-      // slow ones; a fold there turns a moved face beyond the normal-change
-      // limit, which is still checked), then the whole result checked;
-      // should it cut itself, the reduction again with every test.
-      Mesh fast = seed.mesh;
-      r.test_neighbours = false;
-      reduce_to_faces(fast, r);
-      if (self_intersecting_pairs(fast, options.threads) == 0) {
-        seed.mesh = std::move(fast);
-      } else {
-        r.test_neighbours = true;
-        reduce_to_faces(seed.mesh, r);
-        seed.rereduced = true;
-      }
-    }
+    if (r.faces < seed.mesh.n_faces()) reduce_to_faces(seed.mesh, r);
   }
   seed.applied = true;
   return seed;

@@ -181,7 +181,6 @@ struct DeformResult {
   std::size_t voxel_seed_background = 0;  // of them, background voxels (slits, well-composedness)
   std::size_t voxel_seed_left_out = 0;    // object voxels next to it it could not take
   std::size_t voxel_seed_surface_faces = 0;  // faces of its surface before the reduction
-  bool voxel_seed_rereduced = false;         // its fast reduction cut itself and was redone (VoxelSeed)
   int global_refinements = 0;     // performed
   std::size_t rejected_moves = 0; // moves vetoed by the self-intersection guard
   std::size_t flips = 0;          // edge flips performed

@@ -91,10 +91,6 @@ struct CollapseOptions {
   double max_length = std::numeric_limits<double>::infinity();  // only edges shorter than this, mm
   const std::vector<char>* only_edges = nullptr;  // when given: only the edges flagged here (by index)
   const std::vector<char>* removable = nullptr;   // when given: only the vertices flagged here (by index) go
-  bool test_neighbours = true;    // false: the exact intersection tests skip faces sharing a corner with
-                                  // a moved face (a fold among them turns a moved face beyond
-                                  // max_normal_change, which is still checked); the caller checks the
-                                  // result for self-intersections (the voxel seed's first reduction)
 };
 
 // Checks collapses geometrically against the whole mesh: a uniform grid over

@@ -35,8 +35,6 @@ struct ReduceOptions {
                                     // stays where it was: a halfedge collapse)
   bool keep_floor = false;          // never lower the floor (the target may then be missed)
   double max_normal_change = 45.0;  // a new face turns at most this much from the old one, degrees
-  bool test_neighbours = true;      // CollapseOptions::test_neighbours (false: the caller checks the
-                                    // result for self-intersections)
 };
 
 struct ReduceResult {

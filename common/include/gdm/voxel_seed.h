@@ -80,7 +80,6 @@ struct VoxelSeed {
   std::size_t background_voxels = 0;
   std::size_t left_out = 0;
   std::size_t surface_faces = 0;  // faces of voxel_surface before the reduction
-  bool rereduced = false;         // the fast reduction's result cut itself: reduced again with every test
 };
 
 // The ball grown from the deepest of `seed_points` (mm) on the object's side,
