@@ -28,33 +28,10 @@ class BallGrower {
  public:
   BallGrower(const Volume& volume, const VoxelSeedOptions& o, const Index3& start)
       : n_(volume.dims()), offset_(neighbour_offsets(n_)) {
-    const std::size_t count = volume.voxel_count();
-    std::vector<char>& background = background_;
-    background.assign(count, 0);
-    for (std::size_t c = 0; c < count; ++c) {
-      const double v = volume.values()[c];
-      background[c] = o.object_brighter ? !(v > o.threshold) : !(v < o.threshold);
-    }
-    const std::vector<double> d2 = squared_distance_to(background, n_, volume.spacing(), o.threads);
+    classify(volume, o);
+    const std::vector<double> d2 = squared_distance_to(background_, n_, volume.spacing(), o.threads);
     depth_.assign(d2.begin(), d2.end());
-    // The object the model grows in: the start's 6-connected region, as the
-    // cavity fill sees it (cavities.h; its handles are capped there). Object
-    // voxels joined to it only by an edge or a corner would bring handles
-    // the fill never saw: they count as background here.
-    std::vector<char> region(count, 0);
-    const std::size_t s = index(start[0], start[1], start[2]);
-    if (!background[s]) {
-      region[s] = 1;
-      flood_by_runs(n_, false, region, {s}, [&](std::size_t c) { return !background[c]; });
-    }
-    const std::vector<char> thin = thin_background(background, volume.spacing());
-    state_.assign(count, kFixed);
-    for (int k = 1; k < n_[2] - 1; ++k)
-      for (int j = 1; j < n_[1] - 1; ++j)
-        for (int i = 1; i < n_[0] - 1; ++i) {
-          const std::size_t c = index(i, j, k);
-          state_[c] = region[c] || thin[c] ? kFree : kSpare;
-        }
+    mark_takeable(region_of(start), thin_background(volume.spacing()));
   }
 
   VoxelBall grow(const Index3& start) {
@@ -110,6 +87,41 @@ class BallGrower {
     }
   }
 
+  // The voxels on the background's side of T.
+  void classify(const Volume& volume, const VoxelSeedOptions& o) {
+    background_.assign(volume.voxel_count(), 0);
+    for (std::size_t c = 0; c < background_.size(); ++c) {
+      const double v = volume.values()[c];
+      background_[c] = o.object_brighter ? !(v > o.threshold) : !(v < o.threshold);
+    }
+  }
+
+  // The object the model grows in: the start's 6-connected region, as the
+  // cavity fill sees it (cavities.h; its handles are capped there). Object
+  // voxels joined to it only by an edge or a corner would bring handles the
+  // fill never saw: they count as background here.
+  std::vector<char> region_of(const Index3& start) const {
+    std::vector<char> region(background_.size(), 0);
+    const std::size_t s = index(start[0], start[1], start[2]);
+    if (!background_[s]) {
+      region[s] = 1;
+      flood_by_runs(n_, false, region, {s}, [&](std::size_t c) { return !background_[c]; });
+    }
+    return region;
+  }
+
+  // The region and the thin background may be taken as they come; other
+  // voxels only to keep the set well-composed; the grid's outer layer never.
+  void mark_takeable(const std::vector<char>& region, const std::vector<char>& thin) {
+    state_.assign(background_.size(), kFixed);
+    for (int k = 1; k < n_[2] - 1; ++k)
+      for (int j = 1; j < n_[1] - 1; ++j)
+        for (int i = 1; i < n_[0] - 1; ++i) {
+          const std::size_t c = index(i, j, k);
+          state_[c] = region[c] || thin[c] ? kFree : kSpare;
+        }
+  }
+
   // Background no box of kChannelWidth voxel sizes a side (at least one
   // voxel along each axis) fits in: slits and canals narrower than the
   // channels a grown model enters (Deformer::object_ahead: two voxels
@@ -117,7 +129,8 @@ class BallGrower {
   // bridges them as the grown model does, where following a crack one voxel
   // wide deep into the object would put faces far from the object's surface
   // (the tooth's root canals, open at the roots' tips at T = 115).
-  std::vector<char> thin_background(const std::vector<char>& background, const Vec3& spacing) const {
+  std::vector<char> thin_background(const Vec3& spacing) const {
+    const std::vector<char>& background = background_;
     Index3 b;
     const double least = std::min({spacing.x(), spacing.y(), spacing.z()});
     for (int a = 0; a < 3; ++a) b[a] = std::max(1, static_cast<int>(std::ceil(kChannelWidth * least / spacing[a] - 1e-9)));
