@@ -11,6 +11,7 @@
 #include "gdm/distance_transform.h"
 #include "gdm/passage.h"
 #include "gdm/voxel_flood.h"
+#include "gdm/voxel_grid.h"
 #include "gdm/voxel_topology.h"
 
 namespace gdm {
@@ -34,34 +35,10 @@ double cavity_opening_width(const CavityOptions& o, const Volume& volume) {
 
 namespace {
 
-// A grid of n voxels (x fastest) with its 6-neighbour walk.
-struct Grid {
-  Index3 n;
-  std::size_t count() const {
-    return static_cast<std::size_t>(n[0]) * static_cast<std::size_t>(n[1]) * static_cast<std::size_t>(n[2]);
-  }
-  std::size_t index(int i, int j, int k) const {
-    return static_cast<std::size_t>(i) +
-           static_cast<std::size_t>(n[0]) * (static_cast<std::size_t>(j) + static_cast<std::size_t>(n[1]) * static_cast<std::size_t>(k));
-  }
-  Index3 voxel(std::size_t c) const {
-    const std::size_t nx = static_cast<std::size_t>(n[0]), ny = static_cast<std::size_t>(n[1]);
-    return {static_cast<int>(c % nx), static_cast<int>((c / nx) % ny), static_cast<int>(c / (nx * ny))};
-  }
-  bool on_border(const Index3& v) const {
-    return v[0] == 0 || v[1] == 0 || v[2] == 0 || v[0] == n[0] - 1 || v[1] == n[1] - 1 || v[2] == n[2] - 1;
-  }
-  // Calls f(index, voxel) for every voxel in index order: the loops over
-  // the whole box need each voxel's place, and voxel() takes three integer
-  // divisions (issue 17).
-  template <typename F>
-  void for_each_voxel(F&& f) const {
-    std::size_t c = 0;
-    Index3 v;
-    for (v[2] = 0; v[2] < n[2]; ++v[2])
-      for (v[1] = 0; v[1] < n[1]; ++v[1])
-        for (v[0] = 0; v[0] < n[0]; ++v[0], ++c) f(c, static_cast<const Index3&>(v));
-  }
+// The grid with its 6-neighbour walk.
+struct Grid : VoxelGrid {
+  Grid() = default;
+  explicit Grid(const Index3& dims) : VoxelGrid{dims} {}
   // Marks every voxel 6-connected to the marked ones through `passable`
   // (marks only passable voxels); a stack, no recursion. Only the pockets
   // use it (fill_pockets): they collect their members as passable admits
@@ -172,7 +149,7 @@ class CavityFinder {
   // than W / 2 (it may reach past the volume, where the outside is). Beyond
   // it a ball of any size rolls freely, so nothing there is filled.
   Index3 lo_{0, 0, 0};
-  Grid box_{{0, 0, 0}};
+  Grid box_{Index3{0, 0, 0}};
   std::vector<char> kind_;  // kObject, kBackground, kOther, kOutside
   std::vector<char> fill_;  // filled (background given to the object)
   std::vector<char> cut_;   // cut (object given to the background; empty: none)

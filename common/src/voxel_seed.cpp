@@ -11,6 +11,7 @@
 #include "gdm/distance_transform.h"
 #include "gdm/face_budget.h"
 #include "gdm/voxel_flood.h"
+#include "gdm/voxel_grid.h"
 #include "gdm/voxel_topology.h"
 
 namespace gdm {
@@ -27,7 +28,7 @@ constexpr double kChannelWidth = 2.0;
 class BallGrower {
  public:
   BallGrower(const Volume& volume, const VoxelSeedOptions& o, const Index3& start)
-      : n_(volume.dims()), offset_(neighbour_offsets(n_)) {
+      : n_(volume.dims()), grid_{volume.dims()}, offset_(neighbour_offsets(n_)) {
     classify(volume, o);
     const std::vector<double> d2 = squared_distance_to(background_, n_, volume.spacing(), o.threads);
     depth_.assign(d2.begin(), d2.end());
@@ -57,14 +58,8 @@ class BallGrower {
   enum : char { kFixed = 0, kSpare = 1, kFree = 2, kQueued = 3, kReached = 4 };
   using Entry = std::pair<std::uint64_t, std::size_t>;
 
-  std::size_t index(int i, int j, int k) const {
-    return static_cast<std::size_t>(i) +
-           static_cast<std::size_t>(n_[0]) * (static_cast<std::size_t>(j) + static_cast<std::size_t>(n_[1]) * static_cast<std::size_t>(k));
-  }
-  Index3 voxel(std::size_t c) const {
-    const std::size_t nx = static_cast<std::size_t>(n_[0]), ny = static_cast<std::size_t>(n_[1]);
-    return {static_cast<int>(c % nx), static_cast<int>((c / nx) % ny), static_cast<int>(c / (nx * ny))};
-  }
+  std::size_t index(int i, int j, int k) const { return grid_.index(i, j, k); }
+  Index3 voxel(std::size_t c) const { return grid_.voxel(c); }
   std::size_t neighbour(std::size_t c, int s) const {
     return static_cast<std::size_t>(static_cast<std::ptrdiff_t>(c) + offset_[static_cast<std::size_t>(s)]);
   }
@@ -274,6 +269,7 @@ class BallGrower {
   }
 
   Index3 n_;
+  VoxelGrid grid_;
   std::array<std::ptrdiff_t, 27> offset_;
   std::vector<float> depth_;  // squared distance to the background, mm^2
   std::vector<char> state_;
