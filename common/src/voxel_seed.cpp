@@ -28,9 +28,9 @@ constexpr double kChannelWidth = 2.0;
 class BallGrower {
  public:
   BallGrower(const Volume& volume, const VoxelSeedOptions& o, const Index3& start)
-      : n_(volume.dims()), grid_{volume.dims()}, offset_(neighbour_offsets(n_)) {
+      : grid_{volume.dims()}, offset_(neighbour_offsets(grid_.n)) {
     classify(volume, o);
-    const std::vector<double> d2 = squared_distance_to(background_, n_, volume.spacing(), o.threads);
+    const std::vector<double> d2 = squared_distance_to(background_, grid_.n, volume.spacing(), o.threads);
     depth_.assign(d2.begin(), d2.end());
     mark_takeable(region_of(start), thin_background(volume.spacing()));
   }
@@ -100,7 +100,7 @@ class BallGrower {
     const std::size_t s = index(start[0], start[1], start[2]);
     if (!background_[s]) {
       region[s] = 1;
-      flood_by_runs(n_, false, region, {s}, [&](std::size_t c) { return !background_[c]; });
+      flood_by_runs(grid_.n, false, region, {s}, [&](std::size_t c) { return !background_[c]; });
     }
     return region;
   }
@@ -109,9 +109,9 @@ class BallGrower {
   // voxels only to keep the set well-composed; the grid's outer layer never.
   void mark_takeable(const std::vector<char>& region, const std::vector<char>& thin) {
     state_.assign(background_.size(), kFixed);
-    for (int k = 1; k < n_[2] - 1; ++k)
-      for (int j = 1; j < n_[1] - 1; ++j)
-        for (int i = 1; i < n_[0] - 1; ++i) {
+    for (int k = 1; k < grid_.n[2] - 1; ++k)
+      for (int j = 1; j < grid_.n[1] - 1; ++j)
+        for (int i = 1; i < grid_.n[0] - 1; ++i) {
           const std::size_t c = index(i, j, k);
           state_[c] = region[c] || thin[c] ? kFree : kSpare;
         }
@@ -133,18 +133,18 @@ class BallGrower {
     // A box with its lowest corner at c lies in the background (erosion),
     // then every voxel of such a box (dilation): the opening.
     std::vector<char> core(count, 0), open(count, 0);
-    for (int k = 0; k + b[2] <= n_[2]; ++k)
-      for (int j = 0; j + b[1] <= n_[1]; ++j)
-        for (int i = 0; i + b[0] <= n_[0]; ++i) {
+    for (int k = 0; k + b[2] <= grid_.n[2]; ++k)
+      for (int j = 0; j + b[1] <= grid_.n[1]; ++j)
+        for (int i = 0; i + b[0] <= grid_.n[0]; ++i) {
           bool all = true;
           for (int dz = 0; dz < b[2] && all; ++dz)
             for (int dy = 0; dy < b[1] && all; ++dy)
               for (int dx = 0; dx < b[0] && all; ++dx) all = background[index(i + dx, j + dy, k + dz)] != 0;
           core[index(i, j, k)] = all;
         }
-    for (int k = 0; k < n_[2]; ++k)
-      for (int j = 0; j < n_[1]; ++j)
-        for (int i = 0; i < n_[0]; ++i) {
+    for (int k = 0; k < grid_.n[2]; ++k)
+      for (int j = 0; j < grid_.n[1]; ++j)
+        for (int i = 0; i < grid_.n[0]; ++i) {
           if (!core[index(i, j, k)]) continue;
           for (int dz = 0; dz < b[2]; ++dz)
             for (int dy = 0; dy < b[1]; ++dy)
@@ -249,7 +249,7 @@ class BallGrower {
 
   VoxelBall result() const {
     VoxelBall ball;
-    ball.dims = n_;
+    ball.dims = grid_.n;
     ball.inside.assign(state_.size(), 0);
     for (std::size_t c = 0; c < state_.size(); ++c) {
       if (in(c)) {
@@ -268,7 +268,6 @@ class BallGrower {
     return ball;
   }
 
-  Index3 n_;
   VoxelGrid grid_;
   std::array<std::ptrdiff_t, 27> offset_;
   std::vector<float> depth_;  // squared distance to the background, mm^2
@@ -285,9 +284,8 @@ VoxelBall grow_voxel_ball(const Volume& volume, const VoxelSeedOptions& options,
 }
 
 std::size_t critical_configurations(const std::vector<char>& set, const Index3& n) {
-  const auto at = [&](int i, int j, int k) {
-    return set[static_cast<std::size_t>(i) + static_cast<std::size_t>(n[0]) * (static_cast<std::size_t>(j) + static_cast<std::size_t>(n[1]) * static_cast<std::size_t>(k))] != 0;
-  };
+  const VoxelGrid grid{n};
+  const auto at = [&](int i, int j, int k) { return set[grid.index(i, j, k)] != 0; };
   std::size_t count = 0;
   for (int k = 0; k + 1 < n[2]; ++k)
     for (int j = 0; j + 1 < n[1]; ++j)
