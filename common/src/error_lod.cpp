@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "gdm/parallel.h"
 #include "gdm/predicates.h"
@@ -278,34 +279,67 @@ bool CollapseChecker::geometry_ok(Mesh::HalfedgeHandle h, const CollapseOptions&
     }
     return t;
   };
-  std::vector<Tri> created;
+  created_.clear();
+  moved_faces_.clear();
   const bool all_kept = for_each_face_moved_by_collapse(mesh, h, [&](Mesh::FaceHandle f) {
     const Tri after = moved(f);
     if (!moved_face_ok(face_tri(mesh, f), after, min_cos, o.min_angle)) return false;
-    created.push_back(after);
+    created_.emplace_back(after.p, after.id);
+    moved_faces_.push_back(f.idx());
     return true;
   });
   if (!all_kept) return false;
-  // The moved faces among themselves (the grid holds their old boxes), then against the rest.
+  return moved_faces_clear(moved_faces_, created_, gone0, gone1);
+}
+
+bool CollapseChecker::moved_faces_clear(const std::vector<int>& moved, const std::vector<FilteredTriangle>& created,
+                                        Mesh::FaceHandle gone0, Mesh::FaceHandle gone1) {
+  const Mesh& mesh = *mesh_;
+  const auto box_of = [](const std::array<Vec3, 3>& p, Vec3& lo, Vec3& hi) {
+    lo = p[0].cwiseMin(p[1]).cwiseMin(p[2]);
+    hi = p[0].cwiseMax(p[1]).cwiseMax(p[2]);
+  };
+  const auto apart = [](const Vec3& alo, const Vec3& ahi, const Vec3& blo, const Vec3& bhi) {
+    return (alo.array() > bhi.array()).any() || (ahi.array() < blo.array()).any();
+  };
+  const auto scale = [](const Vec3& alo, const Vec3& ahi, const Vec3& blo, const Vec3& bhi) {
+    return (ahi.cwiseMax(bhi) - alo.cwiseMin(blo)).maxCoeff();
+  };
+  created_lo_.resize(created.size());
+  created_hi_.resize(created.size());
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (std::size_t i = 0; i < created.size(); ++i) {
+    box_of(created[i].p, created_lo_[i], created_hi_[i]);
+    lo = lo.cwiseMin(created_lo_[i]);
+    hi = hi.cwiseMax(created_hi_[i]);
+  }
+  // The moved faces among themselves (the grid holds their old boxes).
   for (std::size_t i = 0; i < created.size(); ++i)
     for (std::size_t j = i + 1; j < created.size(); ++j)
-      if (triangles_intersect_improperly(created[i].p, created[i].id, created[j].p, created[j].id)) return false;
-  for (const Tri& t : created) {
-    const Vec3 lo = t.p[0].cwiseMin(t.p[1]).cwiseMin(t.p[2]), hi = t.p[0].cwiseMax(t.p[1]).cwiseMax(t.p[2]);
-    bool clear = true;
-    grid_.for_each_near(lo, hi, [&](int g) {
-      const Mesh::FaceHandle fg(g);
-      if (!clear || (mesh.has_face_status() && mesh.status(fg).deleted()) || fg == gone0 || fg == gone1) return;
-      const Tri other = moved(fg);
-      if (other.id == t.id) return;  // the triangle itself
-      const Vec3 olo = other.p[0].cwiseMin(other.p[1]).cwiseMin(other.p[2]);
-      const Vec3 ohi = other.p[0].cwiseMax(other.p[1]).cwiseMax(other.p[2]);
-      if ((olo.array() > hi.array()).any() || (ohi.array() < lo.array()).any()) return;
-      if (triangles_intersect_improperly(t.p, t.id, other.p, other.id)) clear = false;
-    });
-    if (!clear) return false;
-  }
-  return true;
+      if (!apart(created_lo_[i], created_hi_[i], created_lo_[j], created_hi_[j]) &&
+          triangles_intersect_improperly(created[i], created[j],
+                                         scale(created_lo_[i], created_hi_[i], created_lo_[j], created_hi_[j])))
+        return false;
+  // Then every other face near them, found by one look at the grid over
+  // their common box and tested against each moved face its box meets.
+  bool clear = true;
+  grid_.for_each_near(lo, hi, [&](int g) {
+    const Mesh::FaceHandle fg(g);
+    if (!clear || (mesh.has_face_status() && mesh.status(fg).deleted()) || fg == gone0 || fg == gone1) return;
+    if (std::find(moved.begin(), moved.end(), g) != moved.end()) return;
+    const Tri t = face_tri(mesh, fg);  // not around the collapsed edge: it keeps its place
+    Vec3 olo, ohi;
+    box_of(t.p, olo, ohi);
+    if (apart(olo, ohi, lo, hi)) return;
+    std::optional<FilteredTriangle> other;  // built for the first moved face its box meets
+    for (std::size_t i = 0; i < created.size() && clear; ++i) {
+      if (apart(olo, ohi, created_lo_[i], created_hi_[i])) continue;
+      if (!other) other.emplace(t.p, t.id);
+      if (triangles_intersect_improperly(created[i], *other, scale(olo, ohi, created_lo_[i], created_hi_[i])))
+        clear = false;
+    }
+  });
+  return clear;
 }
 
 std::size_t collapse_flat_edges(Mesh& mesh, const Volume* volume, double threshold, const CollapseOptions& o) {

@@ -138,7 +138,7 @@ class Reducer {
     return stamp_[c.from] != c.from_stamp || stamp_[c.to] != c.to_stamp;
   }
 
-  std::size_t round(double floor) {
+  double mean_edge_length() const {
     double length = 0.0;
     std::size_t edges = 0;
     for (auto e : mesh_.edges())
@@ -146,8 +146,14 @@ class Reducer {
         length += mesh_.calc_edge_length(e);
         ++edges;
       }
-    const double mean_edge = length / static_cast<double>(std::max<std::size_t>(1, edges));
-    CollapseChecker checker(mesh_, 2.0 * mean_edge);
+    return length / static_cast<double>(std::max<std::size_t>(1, edges));
+  }
+
+  std::size_t round(double floor) {
+    CollapseChecker checker(mesh_, 2.0 * mean_edge_length());
+    // The grid's cells fit the faces: when half of them are gone (the rest
+    // larger), it is built again with cells twice the new mean edge.
+    std::size_t faces_at_build = faces_;
     CollapseOptions c;
     c.min_angle = floor;
     c.max_normal_change = o_.max_normal_change;
@@ -156,6 +162,10 @@ class Reducer {
       if (!mesh_.status(mesh_.edge_handle(h)).deleted() && (!o_.move_vertices || h.idx() % 2 == 0)) queue_halfedge(h);
     std::size_t made = 0;
     while (faces_ > o_.faces && !queue_.empty()) {
+      if (2 * faces_ < faces_at_build) {
+        checker.rebuild(2.0 * mean_edge_length());
+        faces_at_build = faces_;
+      }
       const Candidate top = queue_.top();
       queue_.pop();
       if (stale(top)) continue;

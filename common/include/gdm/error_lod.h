@@ -113,8 +113,18 @@ class CollapseChecker {
   void renumber_faces(const std::vector<int>& to) { grid_.renumber(to, mesh_->n_faces()); }
 
  private:
+  // Are the moved faces (`moved`, by index; `created`, where the collapse
+  // puts them) free of improper intersections among themselves and with
+  // every other face but the two the collapse deletes?
+  bool moved_faces_clear(const std::vector<int>& moved, const std::vector<FilteredTriangle>& created,
+                         Mesh::FaceHandle gone0, Mesh::FaceHandle gone1);
+
   const Mesh* mesh_;
   FaceGrid grid_;  // the intersection guard's grid, without a margin
+  // Scratch of geometry_ok with a target (kept to spare the allocations).
+  std::vector<int> moved_faces_;
+  std::vector<FilteredTriangle> created_;
+  std::vector<Vec3> created_lo_, created_hi_;
 };
 
 // One pass of collapses, shortest edges first, each one checked by
