@@ -238,6 +238,54 @@ TEST(CollapseChecks, refuses_exactly_the_collapses_that_would_self_intersect) {
   EXPECT_GT(accepted, 0u);
 }
 
+TEST(CollapseChecks, a_collapse_to_a_point_is_refused_exactly_when_it_would_self_intersect) {
+  // The thin rippled pancake again, each edge merged into a point near its
+  // midpoint pushed up or down by about half the pancake's thickness: the
+  // checker (one look at the grid over the moved faces, the faces around
+  // both ends tested against each other and against the rest) must refuse
+  // every collapse that leaves intersecting faces and accept every other
+  // one whose faces stay non-degenerate and turn by less than 179.9 degrees.
+  Mesh pancake = make_geodesic_sphere(Vec3::Zero(), 10.0, 2);
+  for (auto v : pancake.vertices()) {
+    Vec3 p = to_eigen(pancake.point(v));
+    p.z() *= 0.04;
+    if (p.z() > 0) p.z() *= 1.0 + 0.9 * std::sin(1.7 * p.x()) * std::cos(1.3 * p.y());
+    pancake.set_point(v, to_point(p));
+  }
+  ASSERT_EQ(self_intersecting_pairs(pancake), 0u);
+  pancake.request_vertex_status();
+  pancake.request_edge_status();
+  pancake.request_halfedge_status();
+  pancake.request_face_status();
+  CollapseChecker checker(pancake, 2.0);
+  CollapseOptions geometric_only;
+  geometric_only.min_angle = 0.0;
+  geometric_only.max_normal_change = 179.9;
+  std::size_t intersecting = 0, accepted = 0, refused_clean = 0;
+  for (auto h : pancake.halfedges()) {
+    if (!collapse_keeps_topology(pancake, h)) continue;
+    const auto from = pancake.from_vertex_handle(h), to = pancake.to_vertex_handle(h);
+    const double lift = (h.idx() % 3 == 0 ? 0.4 : (h.idx() % 3 == 1 ? -0.4 : 0.0));
+    const Vec3 target = 0.5 * (to_eigen(pancake.point(from)) + to_eigen(pancake.point(to))) + Vec3(0.0, 0.0, lift);
+    const bool ok = checker.geometry_ok(h, geometric_only, target);
+    Mesh copy = pancake;
+    const auto kept = copy.to_vertex_handle(copy.find_halfedge(from, to));
+    copy.collapse(copy.find_halfedge(from, to));
+    copy.set_point(kept, to_point(target));
+    copy.garbage_collection();
+    const bool intersects = self_intersecting_pairs(copy) > 0;
+    intersecting += intersects;
+    accepted += ok;
+    EXPECT_FALSE(ok && intersects) << "accepted a collapse that self-intersects, halfedge " << h.idx();
+    refused_clean += !ok && !intersects && smallest_angle_degrees(copy) > 0.0;
+  }
+  std::printf("pancake, collapses to points: %zu would self-intersect, %zu accepted, %zu refused without\n",
+              intersecting, accepted, refused_clean);
+  EXPECT_GT(intersecting, 0u) << "the test shape gives no intersecting collapse: it proves nothing";
+  EXPECT_GT(accepted, 0u);
+  EXPECT_EQ(refused_clean, 0u) << "refused collapses that leave a clean, non-degenerate mesh";
+}
+
 TEST(CollapseChecks, keeps_a_closed_genus_0_mesh_within_the_tolerance) {
   ph::Grid grid;
   grid.dims = {40, 40, 40};
