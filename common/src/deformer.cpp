@@ -1392,6 +1392,7 @@ void Deformer::reduce_to_budget(const FitOptions& fit, DeformResult& result) {
   // model 0.345 -> 0.011 voxel); again after the last fit, which rounds them.
   sharpen_edges(fit, result);
   ReduceOptions r;
+  r.threads = threads_;
   r.faces = o_.face_budget;
   r.min_angle = o_.min_angle > 0.0 ? o_.min_angle : o_.lod_min_angle;
   r.noise = fit.noise;
@@ -1429,6 +1430,7 @@ void Deformer::settle_budget(DeformResult& result) {
   const double bound = o_.min_angle > 0.0 ? o_.min_angle : o_.lod_min_angle;
   if (static_cast<double>(mesh_.n_faces()) > (1.0 + kBudgetSlack) * budget) {
     ReduceOptions r;
+    r.threads = threads_;
     r.faces = o_.face_budget;
     r.min_angle = bound;
     r.keep_floor = true;

@@ -263,6 +263,11 @@ bool CollapseChecker::geometry_ok(Mesh::HalfedgeHandle h, const CollapseOptions&
 }
 
 bool CollapseChecker::geometry_ok(Mesh::HalfedgeHandle h, const CollapseOptions& o, const Vec3& target) {
+  return geometry_ok(h, o, target, scratch_);
+}
+
+bool CollapseChecker::geometry_ok(Mesh::HalfedgeHandle h, const CollapseOptions& o, const Vec3& target,
+                                  Scratch& s) const {
   const Mesh& mesh = *mesh_;
   const auto v0 = mesh.from_vertex_handle(h), v1 = mesh.to_vertex_handle(h);
   const auto gone0 = mesh.face_handle(h), gone1 = mesh.face_handle(mesh.opposite_halfedge_handle(h));
@@ -279,22 +284,25 @@ bool CollapseChecker::geometry_ok(Mesh::HalfedgeHandle h, const CollapseOptions&
     }
     return t;
   };
-  created_.clear();
-  moved_faces_.clear();
+  s.created.clear();
+  s.moved.clear();
   const bool all_kept = for_each_face_moved_by_collapse(mesh, h, [&](Mesh::FaceHandle f) {
     const Tri after = moved(f);
     if (!moved_face_ok(face_tri(mesh, f), after, min_cos, o.min_angle)) return false;
-    created_.emplace_back(after.p, after.id);
-    moved_faces_.push_back(f.idx());
+    s.created.emplace_back(after.p, after.id);
+    s.moved.push_back(f.idx());
     return true;
   });
   if (!all_kept) return false;
-  return moved_faces_clear(moved_faces_, created_, gone0, gone1);
+  return moved_faces_clear(gone0, gone1, s);
 }
 
-bool CollapseChecker::moved_faces_clear(const std::vector<int>& moved, const std::vector<FilteredTriangle>& created,
-                                        Mesh::FaceHandle gone0, Mesh::FaceHandle gone1) {
+bool CollapseChecker::moved_faces_clear(Mesh::FaceHandle gone0, Mesh::FaceHandle gone1, Scratch& s) const {
   const Mesh& mesh = *mesh_;
+  const std::vector<int>& moved = s.moved;
+  const std::vector<FilteredTriangle>& created = s.created;
+  std::vector<Vec3>& created_lo_ = s.lo;
+  std::vector<Vec3>& created_hi_ = s.hi;
   const auto box_of = [](const std::array<Vec3, 3>& p, Vec3& lo, Vec3& hi) {
     lo = p[0].cwiseMin(p[1]).cwiseMin(p[2]);
     hi = p[0].cwiseMax(p[1]).cwiseMax(p[2]);
@@ -322,24 +330,27 @@ bool CollapseChecker::moved_faces_clear(const std::vector<int>& moved, const std
         return false;
   // Then every other face near them, found by one look at the grid over
   // their common box and tested against each moved face its box meets.
-  bool clear = true;
-  grid_.for_each_near(lo, hi, [&](int g) {
+  if (++s.stamp == 0) {
+    std::fill(s.stamps.begin(), s.stamps.end(), 0u);
+    s.stamp = 1;
+  }
+  return !grid_.any_near_once(lo, hi, s.stamps, s.stamp, [&](int g) {
     const Mesh::FaceHandle fg(g);
-    if (!clear || (mesh.has_face_status() && mesh.status(fg).deleted()) || fg == gone0 || fg == gone1) return;
-    if (std::find(moved.begin(), moved.end(), g) != moved.end()) return;
+    if ((mesh.has_face_status() && mesh.status(fg).deleted()) || fg == gone0 || fg == gone1) return false;
+    if (std::find(moved.begin(), moved.end(), g) != moved.end()) return false;
     const Tri t = face_tri(mesh, fg);  // not around the collapsed edge: it keeps its place
     Vec3 olo, ohi;
     box_of(t.p, olo, ohi);
-    if (apart(olo, ohi, lo, hi)) return;
+    if (apart(olo, ohi, lo, hi)) return false;
     std::optional<FilteredTriangle> other;  // built for the first moved face its box meets
-    for (std::size_t i = 0; i < created.size() && clear; ++i) {
+    for (std::size_t i = 0; i < created.size(); ++i) {
       if (apart(olo, ohi, created_lo_[i], created_hi_[i])) continue;
       if (!other) other.emplace(t.p, t.id);
       if (triangles_intersect_improperly(created[i], *other, scale(olo, ohi, created_lo_[i], created_hi_[i])))
-        clear = false;
+        return true;
     }
+    return false;
   });
-  return clear;
 }
 
 std::size_t collapse_flat_edges(Mesh& mesh, const Volume* volume, double threshold, const CollapseOptions& o) {

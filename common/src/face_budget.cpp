@@ -9,12 +9,19 @@
 #include <Eigen/Eigenvalues>
 
 #include "gdm/error_lod.h"
+#include "gdm/parallel.h"
 
 namespace gdm {
 
 namespace {
 
 using Quadric = Eigen::Matrix4d;
+
+// Candidates checked ahead per thread (Reducer::round): a larger batch
+// spreads the threads' start over more checks, and more of its regions meet
+// one changed before their turn (measured on the T1 head's voxel seed: 10 %
+// of them at 64 in all, 12 % at 256).
+constexpr std::size_t kBatchPerThread = 32;
 
 Vec3 pos(const Mesh& mesh, Mesh::VertexHandle v) { return to_eigen(mesh.point(v)); }
 
@@ -149,6 +156,25 @@ class Reducer {
     return length / static_cast<double>(std::max<std::size_t>(1, edges));
   }
 
+  // What a collapse reads and changes lies in the box of both ends' rings
+  // and the target: its moved faces, the faces the grid offers against
+  // them, the faces it deletes and the new ones.
+  struct Region {
+    Vec3 lo, hi;
+    bool meets(const Region& o) const { return !((lo.array() > o.hi.array()).any() || (hi.array() < o.lo.array()).any()); }
+  };
+  Region region_of(const Candidate& k) const {
+    const Mesh::HalfedgeHandle h(k.h);
+    Region r{k.target, k.target};
+    for (const auto end : {mesh_.from_vertex_handle(h), mesh_.to_vertex_handle(h)})
+      for (auto w : mesh_.vv_range(end)) {
+        const Vec3 p = pos(mesh_, w);
+        r.lo = r.lo.cwiseMin(p);
+        r.hi = r.hi.cwiseMax(p);
+      }
+    return r;
+  }
+
   std::size_t round(double floor) {
     CollapseChecker checker(mesh_, 2.0 * mean_edge_length());
     // The grid's cells fit the faces: when half of them are gone (the rest
@@ -160,30 +186,75 @@ class Reducer {
     queue_ = {};
     for (auto h : mesh_.halfedges())
       if (!mesh_.status(mesh_.edge_handle(h)).deleted() && (!o_.move_vertices || h.idx() % 2 == 0)) queue_halfedge(h);
+    // The collapses are taken in the queue's order, one after the other;
+    // with several threads the next candidates' geometric checks (most of
+    // the time) run first, at once, on the mesh as it stands. A collapse
+    // whose region meets none changed since keeps that answer, which is the
+    // one its turn would give; the others are checked again at their turn.
+    // Candidates queued meanwhile that come first send the rest back to the
+    // queue: the same collapses, in the same order, for any thread count.
+    const int threads = o_.move_vertices ? resolve_thread_count(o_.threads) : 1;
+    const std::size_t batch_size = threads > 1 ? kBatchPerThread * static_cast<std::size_t>(threads) : 1;
+    std::vector<CollapseChecker::Scratch> scratch(static_cast<std::size_t>(threads));
+    std::vector<Candidate> batch;
+    std::vector<char> answer;
+    std::vector<Region> region, changed;
     std::size_t made = 0;
     while (faces_ > o_.faces && !queue_.empty()) {
       if (2 * faces_ < faces_at_build) {
         checker.rebuild(2.0 * mean_edge_length());
         faces_at_build = faces_;
       }
-      const Candidate top = queue_.top();
-      queue_.pop();
-      if (stale(top)) continue;
-      Mesh::HalfedgeHandle h(top.h);
-      if (o_.move_vertices && !collapse_keeps_topology(mesh_, h)) h = mesh_.opposite_halfedge_handle(h);
-      if (!collapse_keeps_topology(mesh_, h)) continue;
-      if (o_.move_vertices ? !checker.geometry_ok(h, c, top.target) : !checker.geometry_ok(h, c)) continue;
-      const auto from = mesh_.from_vertex_handle(h), to = mesh_.to_vertex_handle(h);
-      quadric_[to.idx()] += quadric_[from.idx()];
-      area_[to.idx()] += area_[from.idx()];
-      ++stamp_[to.idx()];
-      ++stamp_[from.idx()];
-      mesh_.collapse(h);
-      if (o_.move_vertices) mesh_.set_point(to, to_point(top.target));
-      checker.note_vertex(to);
-      faces_ -= 2;
-      ++made;
-      queue_around(to);
+      batch.clear();
+      while (batch.size() < batch_size && !queue_.empty()) {
+        const Candidate top = queue_.top();
+        queue_.pop();
+        if (!stale(top)) batch.push_back(top);
+      }
+      const bool ahead = batch.size() > 1;
+      if (ahead) {
+        answer.assign(batch.size(), 0);
+        region.resize(batch.size());
+        const auto stride = static_cast<std::size_t>(threads);
+        detail::run_tasks(stride, threads, [&](std::size_t w) {
+          for (std::size_t i = w; i < batch.size(); i += stride) {
+            region[i] = region_of(batch[i]);
+            answer[i] = checker.geometry_ok(Mesh::HalfedgeHandle(batch[i].h), c, batch[i].target, scratch[w]);
+          }
+        });
+      }
+      changed.clear();
+      for (std::size_t i = 0; i < batch.size() && faces_ > o_.faces; ++i) {
+        const Candidate& top = batch[i];
+        if (i > 0 && !queue_.empty() && top > queue_.top()) {
+          for (std::size_t j = i; j < batch.size(); ++j) queue_.push(batch[j]);
+          break;
+        }
+        if (stale(top)) continue;
+        Mesh::HalfedgeHandle h(top.h);
+        if (o_.move_vertices && !collapse_keeps_topology(mesh_, h)) h = mesh_.opposite_halfedge_handle(h);
+        if (!collapse_keeps_topology(mesh_, h)) continue;
+        // (With the vertices merged at the target, h and its opposite move
+        // the same faces to the same places: the answer holds for either.)
+        const bool kept = ahead && std::none_of(changed.begin(), changed.end(),
+                                                [&](const Region& r) { return r.meets(region[i]); });
+        const Region r = kept ? region[i] : region_of(top);
+        const bool ok = kept ? answer[i] != 0
+                             : (o_.move_vertices ? checker.geometry_ok(h, c, top.target) : checker.geometry_ok(h, c));
+        if (!ok) continue;
+        changed.push_back(r);
+        const auto from = mesh_.from_vertex_handle(h), to = mesh_.to_vertex_handle(h);
+        quadric_[to.idx()] += quadric_[from.idx()];
+        area_[to.idx()] += area_[from.idx()];
+        ++stamp_[to.idx()];
+        ++stamp_[from.idx()];
+        mesh_.collapse(h);
+        if (o_.move_vertices) mesh_.set_point(to, to_point(top.target));
+        checker.note_vertex(to);
+        faces_ -= 2;
+        ++made;
+        queue_around(to);
+      }
     }
     return made;
   }

@@ -403,6 +403,7 @@ VoxelSeed make_voxel_seed(const Volume& volume, const VoxelSeedOptions& options,
     for (auto f : seed.mesh.faces()) area += seed.mesh.calc_face_area(f);
     const double voxel_area = volume.voxel_size() * volume.voxel_size();
     ReduceOptions r;
+    r.threads = options.threads;
     r.faces = static_cast<std::size_t>(std::ceil(area / kCuberilleAreaRatio / (options.face_area * voxel_area)));
     // Collapses that stay within half a voxel of the faces' planes (the
     // staircase's steps) count as free and go shortest edge first.

@@ -9,6 +9,7 @@
 #include <limits>
 
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "gdm/intersection_guard.h"
@@ -107,24 +108,32 @@ class CollapseChecker {
   // The same for a collapse that also moves the kept (to-)vertex to
   // `target`: every face around either vertex is checked.
   bool geometry_ok(Mesh::HalfedgeHandle h, const CollapseOptions& options, const Vec3& target);
+  // What one check with a target works in: the faces it moves, where they
+  // go, their boxes, and marks of the faces the grid offered.
+  struct Scratch {
+    std::vector<int> moved;
+    std::vector<FilteredTriangle> created;
+    std::vector<Vec3> lo, hi;
+    std::vector<std::uint32_t> stamps;
+    std::uint32_t stamp = 0;
+  };
+  // The same answer, reading the mesh and the grid only: threads may run it
+  // at once, each with its own scratch, while nothing changes the mesh.
+  bool geometry_ok(Mesh::HalfedgeHandle h, const CollapseOptions& options, const Vec3& target, Scratch& s) const;
   // Registers the faces around v after a collapse into v (or a move of v).
   void note_vertex(Mesh::VertexHandle v);
   // The faces renumbered by the mesh's garbage collection (FaceGrid::renumber).
   void renumber_faces(const std::vector<int>& to) { grid_.renumber(to, mesh_->n_faces()); }
 
  private:
-  // Are the moved faces (`moved`, by index; `created`, where the collapse
+  // Are the moved faces (s.moved, by index; s.created, where the collapse
   // puts them) free of improper intersections among themselves and with
   // every other face but the two the collapse deletes?
-  bool moved_faces_clear(const std::vector<int>& moved, const std::vector<FilteredTriangle>& created,
-                         Mesh::FaceHandle gone0, Mesh::FaceHandle gone1);
+  bool moved_faces_clear(Mesh::FaceHandle gone0, Mesh::FaceHandle gone1, Scratch& s) const;
 
   const Mesh* mesh_;
-  FaceGrid grid_;  // the intersection guard's grid, without a margin
-  // Scratch of geometry_ok with a target (kept to spare the allocations).
-  std::vector<int> moved_faces_;
-  std::vector<FilteredTriangle> created_;
-  std::vector<Vec3> created_lo_, created_hi_;
+  FaceGrid grid_;    // the intersection guard's grid, without a margin
+  Scratch scratch_;  // geometry_ok's with a target, called without one
 };
 
 // One pass of collapses, shortest edges first, each one checked by

@@ -35,6 +35,8 @@ struct ReduceOptions {
                                     // stays where it was: a halfedge collapse)
   bool keep_floor = false;          // never lower the floor (the target may then be missed)
   double max_normal_change = 45.0;  // a new face turns at most this much from the old one, degrees
+  int threads = 0;                  // workers for the collapses' checks (0 = all cores); the result does
+                                    // not depend on it
 };
 
 struct ReduceResult {

@@ -38,8 +38,8 @@ struct VoxelSeedOptions {
   bool object_brighter = true;   // the object lies above T
   double face_area = 2.5;        // voxel^2: the faces the reduction aims at, about (the level of detail's)
   bool reduce = true;            // false: the voxels' faces as they are (two triangles per voxel face)
-  int threads = 0;               // workers for the distance transform (0 = all cores); the seed does not
-                                 // depend on it
+  int threads = 0;               // workers for the distance transform and the reduction's checks (0 = all
+                                 // cores); the seed does not depend on it
 };
 
 // The ball of voxels grown from one voxel (what make_voxel_seed meshes).
