@@ -17,11 +17,13 @@ namespace {
 
 using Quadric = Eigen::Matrix4d;
 
-// Candidates checked ahead per thread (Reducer::round): a larger batch
-// spreads the threads' start over more checks, and more of its regions meet
-// one changed before their turn (measured on the T1 head's voxel seed: 10 %
-// of them at 64 in all, 12 % at 256).
-constexpr std::size_t kBatchPerThread = 32;
+// Candidates taken at once (Reducer::round), their checks on the threads: a
+// larger batch spreads the threads' start over more checks, and more of its
+// regions meet one changed before their turn (measured on the T1 head's
+// voxel seed: 10 % of them at 64, 12 % at 256).
+constexpr std::size_t kBatch = 64;
+// How deep gather_batch looks for them, in batches.
+constexpr std::size_t kBatchLook = 16;
 
 Vec3 pos(const Mesh& mesh, Mesh::VertexHandle v) { return to_eigen(mesh.point(v)); }
 
@@ -175,6 +177,29 @@ class Reducer {
     return r;
   }
 
+  // The next candidates in the queue's order whose regions meet none taken
+  // before them, up to `size` (looking at most kBatchLook deep): none of
+  // them changes what another's check reads, nor makes another stale. The
+  // candidates passed over go back to the queue for the next batch.
+  void gather_batch(std::size_t size, std::vector<Candidate>& batch, std::vector<Region>& region) {
+    batch.clear();
+    region.clear();
+    passed_over_.clear();
+    for (std::size_t looked = 0; batch.size() < size && !queue_.empty() && looked < kBatchLook * size; ++looked) {
+      const Candidate top = queue_.top();
+      queue_.pop();
+      if (stale(top)) continue;
+      const Region r = region_of(top);
+      if (std::any_of(region.begin(), region.end(), [&](const Region& q) { return q.meets(r); })) {
+        passed_over_.push_back(top);
+        continue;
+      }
+      batch.push_back(top);
+      region.push_back(r);
+    }
+    for (const Candidate& k : passed_over_) queue_.push(k);
+  }
+
   std::size_t round(double floor) {
     CollapseChecker checker(mesh_, 2.0 * mean_edge_length());
     // The grid's cells fit the faces: when half of them are gone (the rest
@@ -186,15 +211,19 @@ class Reducer {
     queue_ = {};
     for (auto h : mesh_.halfedges())
       if (!mesh_.status(mesh_.edge_handle(h)).deleted() && (!o_.move_vertices || h.idx() % 2 == 0)) queue_halfedge(h);
-    // The collapses are taken in the queue's order, one after the other;
-    // with several threads the next candidates' geometric checks (most of
-    // the time) run first, at once, on the mesh as it stands. A collapse
-    // whose region meets none changed since keeps that answer, which is the
-    // one its turn would give; the others are checked again at their turn.
-    // Candidates queued meanwhile that come first send the rest back to the
-    // queue: the same collapses, in the same order, for any thread count.
+    // The collapses are taken in batches: the queue's next candidates whose
+    // regions are apart (gather_batch), each batch in the queue's order;
+    // candidates queued by its collapses wait for the next batch (sending
+    // the rest of a batch back whenever one came first made nearly every
+    // batch one collapse long; taking neighbours together made half the
+    // checks stale or out of date before their turn). With several threads
+    // the batch's geometric checks (most of the time) run first, at once, on
+    // the mesh as it stands: a collapse whose region meets none changed since
+    // keeps that answer, which is the one its turn would give (the others
+    // would be checked again at their turn). The same collapses, in the same
+    // order, for any thread count.
     const int threads = o_.move_vertices ? resolve_thread_count(o_.threads) : 1;
-    const std::size_t batch_size = threads > 1 ? kBatchPerThread * static_cast<std::size_t>(threads) : 1;
+    const std::size_t batch_size = o_.move_vertices ? kBatch : 1;
     std::vector<CollapseChecker::Scratch> scratch(static_cast<std::size_t>(threads));
     std::vector<Candidate> batch;
     std::vector<char> answer;
@@ -205,31 +234,19 @@ class Reducer {
         checker.rebuild(2.0 * mean_edge_length());
         faces_at_build = faces_;
       }
-      batch.clear();
-      while (batch.size() < batch_size && !queue_.empty()) {
-        const Candidate top = queue_.top();
-        queue_.pop();
-        if (!stale(top)) batch.push_back(top);
-      }
-      const bool ahead = batch.size() > 1;
+      gather_batch(batch_size, batch, region);
+      const bool ahead = threads > 1 && batch.size() > 1;
       if (ahead) {
         answer.assign(batch.size(), 0);
-        region.resize(batch.size());
         const auto stride = static_cast<std::size_t>(threads);
         detail::run_tasks(stride, threads, [&](std::size_t w) {
-          for (std::size_t i = w; i < batch.size(); i += stride) {
-            region[i] = region_of(batch[i]);
+          for (std::size_t i = w; i < batch.size(); i += stride)
             answer[i] = checker.geometry_ok(Mesh::HalfedgeHandle(batch[i].h), c, batch[i].target, scratch[w]);
-          }
         });
       }
       changed.clear();
       for (std::size_t i = 0; i < batch.size() && faces_ > o_.faces; ++i) {
         const Candidate& top = batch[i];
-        if (i > 0 && !queue_.empty() && top > queue_.top()) {
-          for (std::size_t j = i; j < batch.size(); ++j) queue_.push(batch[j]);
-          break;
-        }
         if (stale(top)) continue;
         Mesh::HalfedgeHandle h(top.h);
         if (o_.move_vertices && !collapse_keeps_topology(mesh_, h)) h = mesh_.opposite_halfedge_handle(h);
@@ -238,7 +255,7 @@ class Reducer {
         // the same faces to the same places: the answer holds for either.)
         const bool kept = ahead && std::none_of(changed.begin(), changed.end(),
                                                 [&](const Region& r) { return r.meets(region[i]); });
-        const Region r = kept ? region[i] : region_of(top);
+        const Region r = region[i];
         const bool ok = kept ? answer[i] != 0
                              : (o_.move_vertices ? checker.geometry_ok(h, c, top.target) : checker.geometry_ok(h, c));
         if (!ok) continue;
@@ -266,6 +283,7 @@ class Reducer {
   std::vector<unsigned> stamp_;   // per vertex: collapses into (or of) it so far
   std::size_t faces_ = 0;         // faces not deleted
   std::priority_queue<Candidate, std::vector<Candidate>, std::greater<Candidate>> queue_;
+  std::vector<Candidate> passed_over_;  // gather_batch's scratch
 };
 
 }  // namespace
