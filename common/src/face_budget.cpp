@@ -185,12 +185,16 @@ class Reducer {
     batch.clear();
     region.clear();
     passed_over_.clear();
-    for (std::size_t looked = 0; batch.size() < size && !queue_.empty() && looked < kBatchLook * size; ++looked) {
+    // (Only live candidates count as looked at: the batch does not depend
+    // on how many stale entries the queue still holds.)
+    for (std::size_t looked = 0; batch.size() < size && !queue_.empty() && looked < kBatchLook * size;) {
       const Candidate top = queue_.top();
       queue_.pop();
       if (stale(top)) continue;
+      ++looked;
       const Region r = region_of(top);
-      if (std::any_of(region.begin(), region.end(), [&](const Region& q) { return q.meets(r); })) {
+      // (Newest first: a candidate passed over mostly meets one taken just before.)
+      if (std::any_of(region.rbegin(), region.rend(), [&](const Region& q) { return q.meets(r); })) {
         passed_over_.push_back(top);
         continue;
       }
