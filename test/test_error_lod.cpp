@@ -202,9 +202,12 @@ TEST(CollapseChecks, link_condition_refuses_a_collapse_that_pinches) {
   EXPECT_EQ(genus(m), 0);
 }
 
-TEST(CollapseChecks, refuses_exactly_the_collapses_that_would_self_intersect) {
-  // A sphere squashed into a thin pancake with a rippled top: many collapses
-  // would push faces through the other sheet.
+namespace {
+
+// A sphere squashed into a thin pancake (0.8 mm) with a rippled top, its
+// status attributes requested for collapses: many collapses would push
+// faces through the other sheet.
+Mesh rippled_pancake() {
   Mesh pancake = make_geodesic_sphere(Vec3::Zero(), 10.0, 2);
   for (auto v : pancake.vertices()) {
     Vec3 p = to_eigen(pancake.point(v));
@@ -212,15 +215,30 @@ TEST(CollapseChecks, refuses_exactly_the_collapses_that_would_self_intersect) {
     if (p.z() > 0) p.z() *= 1.0 + 0.9 * std::sin(1.7 * p.x()) * std::cos(1.3 * p.y());
     pancake.set_point(v, to_point(p));
   }
-  ASSERT_EQ(self_intersecting_pairs(pancake), 0u);
   pancake.request_vertex_status();
   pancake.request_edge_status();
   pancake.request_halfedge_status();
   pancake.request_face_status();
+  return pancake;
+}
+
+// Collapse checks on the geometry alone: no quality floor, any turn short of a flip.
+CollapseOptions only_geometry() {
+  CollapseOptions o;
+  o.min_angle = 0.0;
+  o.max_normal_change = 179.9;
+  return o;
+}
+
+}  // namespace
+
+TEST(CollapseChecks, refuses_exactly_the_collapses_that_would_self_intersect) {
+  // A sphere squashed into a thin pancake with a rippled top: many collapses
+  // would push faces through the other sheet.
+  Mesh pancake = rippled_pancake();
+  ASSERT_EQ(self_intersecting_pairs(pancake), 0u);
   CollapseChecker checker(pancake, 2.0);
-  CollapseOptions geometric_only;
-  geometric_only.min_angle = 0.0;
-  geometric_only.max_normal_change = 179.9;
+  const CollapseOptions geometric_only = only_geometry();
   std::size_t intersecting = 0, accepted = 0;
   for (auto h : pancake.halfedges()) {
     if (!collapse_keeps_topology(pancake, h)) continue;
@@ -245,22 +263,10 @@ TEST(CollapseChecks, a_collapse_to_a_point_is_refused_exactly_when_it_would_self
   // both ends tested against each other and against the rest) must refuse
   // every collapse that leaves intersecting faces and accept every other
   // one whose faces stay non-degenerate and turn by less than 179.9 degrees.
-  Mesh pancake = make_geodesic_sphere(Vec3::Zero(), 10.0, 2);
-  for (auto v : pancake.vertices()) {
-    Vec3 p = to_eigen(pancake.point(v));
-    p.z() *= 0.04;
-    if (p.z() > 0) p.z() *= 1.0 + 0.9 * std::sin(1.7 * p.x()) * std::cos(1.3 * p.y());
-    pancake.set_point(v, to_point(p));
-  }
+  Mesh pancake = rippled_pancake();
   ASSERT_EQ(self_intersecting_pairs(pancake), 0u);
-  pancake.request_vertex_status();
-  pancake.request_edge_status();
-  pancake.request_halfedge_status();
-  pancake.request_face_status();
   CollapseChecker checker(pancake, 2.0);
-  CollapseOptions geometric_only;
-  geometric_only.min_angle = 0.0;
-  geometric_only.max_normal_change = 179.9;
+  const CollapseOptions geometric_only = only_geometry();
   std::size_t intersecting = 0, accepted = 0, refused_clean = 0;
   for (auto h : pancake.halfedges()) {
     if (!collapse_keeps_topology(pancake, h)) continue;
