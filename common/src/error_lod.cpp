@@ -301,8 +301,8 @@ bool CollapseChecker::moved_faces_clear(Mesh::FaceHandle gone0, Mesh::FaceHandle
   const Mesh& mesh = *mesh_;
   const std::vector<int>& moved = s.moved;
   const std::vector<FilteredTriangle>& created = s.created;
-  std::vector<Vec3>& created_lo_ = s.lo;
-  std::vector<Vec3>& created_hi_ = s.hi;
+  std::vector<Vec3>& box_lo = s.lo;  // each moved face's box
+  std::vector<Vec3>& box_hi = s.hi;
   const auto box_of = [](const std::array<Vec3, 3>& p, Vec3& lo, Vec3& hi) {
     lo = p[0].cwiseMin(p[1]).cwiseMin(p[2]);
     hi = p[0].cwiseMax(p[1]).cwiseMax(p[2]);
@@ -313,20 +313,20 @@ bool CollapseChecker::moved_faces_clear(Mesh::FaceHandle gone0, Mesh::FaceHandle
   const auto scale = [](const Vec3& alo, const Vec3& ahi, const Vec3& blo, const Vec3& bhi) {
     return (ahi.cwiseMax(bhi) - alo.cwiseMin(blo)).maxCoeff();
   };
-  created_lo_.resize(created.size());
-  created_hi_.resize(created.size());
+  box_lo.resize(created.size());
+  box_hi.resize(created.size());
   Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
   for (std::size_t i = 0; i < created.size(); ++i) {
-    box_of(created[i].p, created_lo_[i], created_hi_[i]);
-    lo = lo.cwiseMin(created_lo_[i]);
-    hi = hi.cwiseMax(created_hi_[i]);
+    box_of(created[i].p, box_lo[i], box_hi[i]);
+    lo = lo.cwiseMin(box_lo[i]);
+    hi = hi.cwiseMax(box_hi[i]);
   }
   // The moved faces among themselves (the grid holds their old boxes).
   for (std::size_t i = 0; i < created.size(); ++i)
     for (std::size_t j = i + 1; j < created.size(); ++j)
-      if (!apart(created_lo_[i], created_hi_[i], created_lo_[j], created_hi_[j]) &&
+      if (!apart(box_lo[i], box_hi[i], box_lo[j], box_hi[j]) &&
           triangles_intersect_improperly(created[i], created[j],
-                                         scale(created_lo_[i], created_hi_[i], created_lo_[j], created_hi_[j])))
+                                         scale(box_lo[i], box_hi[i], box_lo[j], box_hi[j])))
         return false;
   // Then every other face near them, found by one look at the grid over
   // their common box and tested against each moved face its box meets.
@@ -344,9 +344,9 @@ bool CollapseChecker::moved_faces_clear(Mesh::FaceHandle gone0, Mesh::FaceHandle
     if (apart(olo, ohi, lo, hi)) return false;
     std::optional<FilteredTriangle> other;  // built for the first moved face its box meets
     for (std::size_t i = 0; i < created.size(); ++i) {
-      if (apart(olo, ohi, created_lo_[i], created_hi_[i])) continue;
+      if (apart(olo, ohi, box_lo[i], box_hi[i])) continue;
       if (!other) other.emplace(t.p, t.id);
-      if (triangles_intersect_improperly(created[i], *other, scale(olo, ohi, created_lo_[i], created_hi_[i])))
+      if (triangles_intersect_improperly(created[i], *other, scale(olo, ohi, box_lo[i], box_hi[i])))
         return true;
     }
     return false;
