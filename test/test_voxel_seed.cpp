@@ -289,3 +289,43 @@ TEST(VoxelSeed, a_face_budget_is_met_from_it) {
     EXPECT_LE(d.p95, 0.2);
   }
 }
+
+// Impulse noise off the surface: bright single voxels a voxel or so outside
+// a sphere, none sharing a face with the object (they touch it by an edge
+// or a corner, or not at all). The ball leaves them out (they are not in
+// the seed's 6-connected region), and so does the image the model then
+// grows in (VoxelSeed::grow_in, mirrored across T): its vertices are not
+// drawn out to them, and the model keeps the grown model's accuracy.
+TEST(VoxelSeed, specks_off_the_surface_do_not_draw_the_model_out) {
+  ph::Grid grid;
+  grid.dims = {48, 48, 48};
+  const Vec3 c = grid.center();
+  const auto sdf = ph::sphere(c, 15.0);
+  Volume clean = ph::voxelize(grid, sdf, kBackground, kContrast);
+  std::vector<float> values = clean.values();
+  const auto& n = clean.dims();
+  const auto at = [&](int i, int j, int k) {
+    return static_cast<std::size_t>(i) + static_cast<std::size_t>(n[0]) * (j + static_cast<std::size_t>(n[1]) * k);
+  };
+  const auto object = [&](int i, int j, int k) { return clean.values()[at(i, j, k)] > kThreshold; };
+  std::size_t specks = 0;
+  for (int k = 1; k + 1 < n[2]; ++k)
+    for (int j = 1; j + 1 < n[1]; ++j)
+      for (int i = 1; i + 1 < n[0]; ++i) {
+        const double d = sdf(clean.to_physical(Vec3(i, j, k)));
+        if (d < 0.6 || d > 1.8 || (i * 7 + j * 13 + k * 29) % 9 != 0) continue;
+        if (object(i - 1, j, k) || object(i + 1, j, k) || object(i, j - 1, k) || object(i, j + 1, k) ||
+            object(i, j, k - 1) || object(i, j, k + 1))
+          continue;
+        values[at(i, j, k)] = static_cast<float>(kBackground + kContrast);
+        ++specks;
+      }
+  const Volume v(n, std::move(values), clean.spacing(), clean.origin(), clean.direction());
+  const Model grown = run(v, sdf, c, false), seeded = run(v, sdf, c, true);
+  std::printf("%zu specks off the sphere\n", specks);
+  ASSERT_GT(specks, 100u);
+  EXPECT_TRUE(seeded.result.voxel_seed);
+  expect_closed_genus_0_without_intersections(seeded.mesh, "sphere with specks");
+  EXPECT_LE(seeded.distance.mean, 1.2 * grown.distance.mean + 0.005);
+  EXPECT_LE(seeded.distance.p95, 1.2 * grown.distance.p95 + 0.01);
+}

@@ -32,7 +32,8 @@ class BallGrower {
     classify(volume, o);
     const std::vector<double> d2 = squared_distance_to(background_, grid_.n, volume.spacing(), o.threads);
     depth_.assign(d2.begin(), d2.end());
-    mark_takeable(region_of(start), thin_background(volume.spacing()));
+    region_ = region_of(start);
+    mark_takeable(region_, thin_background(volume.spacing()));
   }
 
   VoxelBall grow(const Index3& start) {
@@ -250,6 +251,7 @@ class BallGrower {
   VoxelBall result() const {
     VoxelBall ball;
     ball.dims = grid_.n;
+    ball.region = region_;
     ball.inside.assign(state_.size(), 0);
     for (std::size_t c = 0; c < state_.size(); ++c) {
       if (in(c)) {
@@ -275,9 +277,33 @@ class BallGrower {
   std::priority_queue<Entry> queue_;
   SimplePointTest test_;
   std::vector<char> background_;  // the voxels on the background's side of T
+  std::vector<char> region_;      // the start's 6-connected object region (region_of)
 };
 
 }  // namespace
+
+// The volume with its object voxels outside `region` mirrored across T
+// (v -> 2T - v): on the background's side by as much as they were on the
+// object's. The model started from the ball grows in the ball's object
+// alone: a speck of impulse noise a voxel off its surface, or touching it
+// only by an edge or a corner, no longer draws its vertices out (the study's
+// salt-and-pepper phantoms at 5 to 20 % of flying edges' faces: sphere mean
+// 0.048 / 0.053 / 0.035 -> 0.025 / 0.022 / 0.019 voxel, bent tube 0.048 /
+// 0.046 / 0.033 -> 0.036 / 0.034 / 0.026; the clean and Gaussian cases and
+// the real scans within 0.002).
+Volume outside_region_mirrored(const Volume& volume, const VoxelSeedOptions& o, const std::vector<char>& region,
+                               std::size_t& mirrored) {
+  std::vector<float> values = volume.values();
+  mirrored = 0;
+  const auto t = static_cast<float>(o.threshold);
+  for (std::size_t c = 0; c < values.size(); ++c) {
+    const bool object = o.object_brighter ? values[c] > t : values[c] < t;
+    if (!object || region[c]) continue;
+    values[c] = 2.0f * t - values[c];
+    ++mirrored;
+  }
+  return Volume(volume.dims(), std::move(values), volume.spacing(), volume.origin(), volume.direction());
+}
 
 VoxelBall grow_voxel_ball(const Volume& volume, const VoxelSeedOptions& options, const Index3& start) {
   return BallGrower(volume, options, start).grow(start);
@@ -393,6 +419,7 @@ VoxelSeed make_voxel_seed(const Volume& volume, const VoxelSeedOptions& options,
   }
   if (best < 0.0) return seed;
   const VoxelBall ball = grow_voxel_ball(volume, options, start);
+  seed.grow_in = outside_region_mirrored(volume, options, ball.region, seed.other_object_voxels);
   seed.voxels = ball.voxels;
   seed.background_voxels = ball.background_voxels;
   seed.left_out = ball.left_out;

@@ -46,6 +46,7 @@ struct VoxelSeedOptions {
 struct VoxelBall {
   Index3 dims{0, 0, 0};          // the volume's grid
   std::vector<char> inside;      // 1 for the ball's voxels, x fastest
+  std::vector<char> region;      // 1 for the start's 6-connected object region it grew in, x fastest
   std::size_t voxels = 0;        // the ball's voxels
   std::size_t background_voxels = 0;  // of them, voxels on the background's side of T: in slits and
                                       // canals narrower than two voxels, or taken to keep it well-composed
@@ -80,7 +81,16 @@ struct VoxelSeed {
   std::size_t background_voxels = 0;
   std::size_t left_out = 0;
   std::size_t surface_faces = 0;  // faces of voxel_surface before the reduction
+  Volume grow_in;                // what the model grows in: the volume given, its object voxels outside
+                                 // the ball's region (other objects, specks not 6-connected to it)
+                                 // mirrored across T (outside_region_mirrored)
+  std::size_t other_object_voxels = 0;  // the voxels so mirrored
 };
+
+// `volume` with its object voxels outside `region` (x fastest) mirrored
+// across T (v -> 2T - v), their count in `mirrored`.
+Volume outside_region_mirrored(const Volume& volume, const VoxelSeedOptions& options, const std::vector<char>& region,
+                               std::size_t& mirrored);
 
 // The ball grown from the deepest of `seed_points` (mm) on the object's side,
 // its surface, reduced to about options.face_area per face of the object's
