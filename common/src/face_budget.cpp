@@ -222,16 +222,16 @@ class Reducer {
     // batch one collapse long; taking neighbours together made half the
     // checks stale or out of date before their turn). With several threads
     // the batch's geometric checks (most of the time) run first, at once, on
-    // the mesh as it stands: a collapse whose region meets none changed since
-    // keeps that answer, which is the one its turn would give (the others
-    // would be checked again at their turn). The same collapses, in the same
-    // order, for any thread count.
+    // the mesh as it stands: the regions lie apart, so no collapse before a
+    // candidate's turn changes what its check read, and the answer is the
+    // one its turn would give. The same collapses, in the same order, for
+    // any thread count.
     const int threads = o_.move_vertices ? resolve_thread_count(o_.threads) : 1;
     const std::size_t batch_size = o_.move_vertices ? kBatch : 1;
     std::vector<CollapseChecker::Scratch> scratch(static_cast<std::size_t>(threads));
     std::vector<Candidate> batch;
     std::vector<char> answer;
-    std::vector<Region> region, changed;
+    std::vector<Region> region;
     std::size_t made = 0;
     while (faces_ > o_.faces && !queue_.empty()) {
       if (2 * faces_ < faces_at_build) {
@@ -248,7 +248,6 @@ class Reducer {
             answer[i] = checker.geometry_ok(Mesh::HalfedgeHandle(batch[i].h), c, batch[i].target, scratch[w]);
         });
       }
-      changed.clear();
       for (std::size_t i = 0; i < batch.size() && faces_ > o_.faces; ++i) {
         const Candidate& top = batch[i];
         if (stale(top)) continue;
@@ -257,13 +256,9 @@ class Reducer {
         if (!collapse_keeps_topology(mesh_, h)) continue;
         // (With the vertices merged at the target, h and its opposite move
         // the same faces to the same places: the answer holds for either.)
-        const bool kept = ahead && std::none_of(changed.begin(), changed.end(),
-                                                [&](const Region& r) { return r.meets(region[i]); });
-        const Region r = region[i];
-        const bool ok = kept ? answer[i] != 0
-                             : (o_.move_vertices ? checker.geometry_ok(h, c, top.target) : checker.geometry_ok(h, c));
+        const bool ok = ahead ? answer[i] != 0
+                              : (o_.move_vertices ? checker.geometry_ok(h, c, top.target) : checker.geometry_ok(h, c));
         if (!ok) continue;
-        changed.push_back(r);
         const auto from = mesh_.from_vertex_handle(h), to = mesh_.to_vertex_handle(h);
         quadric_[to.idx()] += quadric_[from.idx()];
         area_[to.idx()] += area_[from.idx()];

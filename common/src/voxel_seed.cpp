@@ -249,10 +249,11 @@ class BallGrower {
     for (const auto& [m, old] : taken) queue_around(m);
   }
 
-  VoxelBall result() const {
+  // The ball, taking the region with it (the grower is done).
+  VoxelBall result() {
     VoxelBall ball;
     ball.dims = grid_.n;
-    ball.region = region_;
+    ball.region = std::move(region_);
     ball.inside.assign(state_.size(), 0);
     for (std::size_t c = 0; c < state_.size(); ++c) {
       if (in(c)) {
@@ -293,10 +294,8 @@ class BallGrower {
 // flying edges' faces: sphere mean 0.048 / 0.053 / 0.035 -> 0.022 / 0.018 /
 // 0.017 voxel, bent tube 0.048 / 0.046 / 0.033 -> 0.034 / 0.026 / 0.021;
 // the clean and Gaussian cases within 0.004, the real scans within 0.003).
-Volume outside_region_mirrored(const Volume& volume, const VoxelSeedOptions& o, const std::vector<char>& region,
-                               std::size_t& mirrored) {
+Volume outside_region_mirrored(const Volume& volume, const VoxelSeedOptions& o, const std::vector<char>& region) {
   std::vector<float> values = volume.values();
-  mirrored = 0;
   const auto object = [&](double v) { return o.object_brighter ? v > o.threshold : v < o.threshold; };
   const float away = o.object_brighter ? -std::numeric_limits<float>::infinity() : std::numeric_limits<float>::infinity();
   for (std::size_t c = 0; c < values.size(); ++c) {
@@ -304,7 +303,6 @@ Volume outside_region_mirrored(const Volume& volume, const VoxelSeedOptions& o, 
     float m = static_cast<float>(2.0 * o.threshold - static_cast<double>(values[c]));
     while (object(m) || m == o.threshold) m = std::nextafter(m, away);
     values[c] = m;
-    ++mirrored;
   }
   return Volume(volume.dims(), std::move(values), volume.spacing(), volume.origin(), volume.direction());
 }
@@ -423,7 +421,7 @@ VoxelSeed make_voxel_seed(const Volume& volume, const VoxelSeedOptions& options,
   }
   if (best < 0.0) return seed;
   const VoxelBall ball = grow_voxel_ball(volume, options, start);
-  seed.grow_in = outside_region_mirrored(volume, options, ball.region, seed.other_object_voxels);
+  seed.grow_in = outside_region_mirrored(volume, options, ball.region);
   seed.voxels = ball.voxels;
   seed.background_voxels = ball.background_voxels;
   seed.left_out = ball.left_out;

@@ -84,13 +84,11 @@ struct VoxelSeed {
   Volume grow_in;                // what the model grows in: the volume given, its object voxels outside
                                  // the ball's region (other objects, specks not 6-connected to it)
                                  // mirrored across T (outside_region_mirrored)
-  std::size_t other_object_voxels = 0;  // the voxels so mirrored
 };
 
 // `volume` with its object voxels outside `region` (x fastest) mirrored
-// across T (v -> 2T - v), their count in `mirrored`.
-Volume outside_region_mirrored(const Volume& volume, const VoxelSeedOptions& options, const std::vector<char>& region,
-                               std::size_t& mirrored);
+// across T (v -> 2T - v).
+Volume outside_region_mirrored(const Volume& volume, const VoxelSeedOptions& options, const std::vector<char>& region);
 
 // The ball grown from the deepest of `seed_points` (mm) on the object's side,
 // its surface, reduced to about options.face_area per face of the object's
