@@ -221,7 +221,7 @@ struct DeformResult {
   std::size_t quality_flips = 0;      // edge flips of the triangle-quality pass
   std::size_t quality_splits = 0;     // cap edges split by it
   std::size_t quality_collapses = 0;  // short edges collapsed by it
-  std::size_t quality_moves = 0;      // vertex moves of its relaxation
+  std::size_t quality_moves = 0;      // vertex moves of its relaxation (and its slides along edges)
   std::size_t quality_spikes = 0;     // of its collapses: needles narrower than 1.5 voxels removed
   std::size_t quality_unfolds = 0;    // of its collapses: edges folded beyond 160 degrees (mesh_checks.h)
   std::size_t faces_below_min_angle = 0;  // faces left with an angle below min_angle (0 when it is off)

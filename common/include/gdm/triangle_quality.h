@@ -41,7 +41,8 @@ struct QualityResult {
   std::size_t unfolds = 0;        // of the collapses: folded edges collapsed (unfold)
   std::size_t unfold_flips = 0;   // of the flips: folded edges flipped (unfold)
   std::size_t splits = 0;         // long edges of caps split at the foot of the cap's apex
-  std::size_t moves = 0;          // vertex moves of the relaxation
+  std::size_t moves = 0;          // vertex moves of the relaxation (the slides included)
+  std::size_t slides = 0;         // of the moves: slides along an edge (the last resort)
   std::size_t faces_below = 0;    // faces still with an angle below min_angle after the pass
   double min_angle_before = 0.0;  // smallest angle of the mesh before the pass, degrees (NaN: no faces)
   double min_angle_after = 0.0;   // ... after it
@@ -70,7 +71,10 @@ double triangle_min_angle(const Vec3& a, const Vec3& b, const Vec3& c);
 // and a third series of rounds with 2.5 and 5 times max_error, and after the
 // third, pairs of collapses judged on the state they leave together (the
 // first, out of a corner or a valence-three neighbour of one, may leave a
-// sliver the second removes; undone when no second mends). With
+// sliver the second removes; undone when no second mends), then slides of
+// their corners along an edge (a tenth to half of it: on the old surface,
+// where the relaxation's tangent plane is none, as on the crest of a thin
+// fin), under the relaxation's rules. With
 // options.unfold, edges folded beyond kFoldDegrees (mesh_checks.h) are then
 // flipped, else collapsed, where that leaves fewer folded edges around and
 // none sharper, under the same rules but the orientation and 45-degree

@@ -859,6 +859,32 @@ TEST(RealData, CtVerticesDoNotPileUp) {
   EXPECT_GT(m.min_angle_deg, 0.5);
 }
 
+// The CT head phantom at the defaults: no angle below the default bound of
+// 10 degrees. One needle (9.5 degrees) was left on the crest of a thin fin,
+// where the faces' normals cancel and the relaxation finds no tangent plane,
+// until the quality pass slid the corners of the faces it left along their
+// edges (issue 16). The whole model at the defaults takes about a minute
+// (Release, 2 cores): skipped in the sanitizer build.
+TEST(RealData, CtHeadAtTheDefaultsHasNoAngleBelowTheBound) {
+#if defined(__SANITIZE_ADDRESS__)
+  GTEST_SKIP() << "AddressSanitizer build: the CT head at the defaults is left to the Release run";
+#endif
+  const fs::path series = kShared + "/data/ct-phantom-dicom/series";
+  if (!fs::exists(series)) GTEST_SKIP() << "the DICOM series " << series << " is absent";
+  const fs::path dir = work_dir();
+  const GdmRun r = run_gdm(dir, {series.string(), "-o", "ct.ply", "--report", "ct.json"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string json = slurp(dir / "ct.json");
+  EXPECT_EQ(json_value(json, "faces_below_min_angle"), 0.0);
+  EXPECT_GT(json_value(json, "quality_moves"), 0.0);
+  const gdm::MeshReport m = measure(read_mesh(dir / "ct.ply"));
+  EXPECT_TRUE(m.closed);
+  EXPECT_TRUE(m.two_manifold);
+  EXPECT_EQ(m.genus, 0);
+  EXPECT_EQ(m.self_intersections, 0u);
+  EXPECT_GE(m.min_angle_deg, 10.0);
+}
+
 // Two scans whose object the scan cuts (the EPI head at its top and bottom
 // slices, neghip's blobs at the x sides), at the defaults: no flag needed,
 // the summary and the report say the border was allowed and why.
