@@ -345,3 +345,106 @@ TEST(TrianglesImproper, degenerate_triangle_intersects_what_it_touches) {
 }
 
 }  // namespace
+
+// faces_around_project_flat: the faces around a vertex, given by their other
+// corners, project one-to-one onto a plane (the guard and the collapse
+// checker then skip the tests between them).
+namespace {
+
+// A fan of n faces around x: ring vertex k at angle 2 pi k (turns / n),
+// radius r(k), height z(k); face k is (x, ring k, ring k + 1). Ids 1..n.
+struct Fan {
+  Vec3 x = Vec3::Zero();
+  std::vector<Vec3> ring;
+  std::vector<std::array<Vec3, 2>> others() const {
+    std::vector<std::array<Vec3, 2>> o;
+    for (std::size_t k = 0; k < ring.size(); ++k) o.push_back({ring[k], ring[(k + 1) % ring.size()]});
+    return o;
+  }
+  std::vector<std::array<int, 2>> ids() const {
+    std::vector<std::array<int, 2>> o;
+    const int n = static_cast<int>(ring.size());
+    for (int k = 0; k < n; ++k) o.push_back({k + 1, (k + 1) % n + 1});
+    return o;
+  }
+  bool flat() const { return gdm::faces_around_project_flat(x, others(), ids()); }
+  // Whether some two of its faces meet improperly (the exact predicate on every pair).
+  bool any_pair_improper() const {
+    const int n = static_cast<int>(ring.size());
+    for (int i = 0; i < n; ++i)
+      for (int j = i + 1; j < n; ++j) {
+        const Tri a{x, ring[static_cast<std::size_t>(i)], ring[static_cast<std::size_t>((i + 1) % n)]};
+        const Tri b{x, ring[static_cast<std::size_t>(j)], ring[static_cast<std::size_t>((j + 1) % n)]};
+        if (gdm::triangles_intersect_improperly(a, Ids{0, i + 1, (i + 1) % n + 1}, b, Ids{0, j + 1, (j + 1) % n + 1}))
+          return true;
+      }
+    return false;
+  }
+};
+
+Fan regular_fan(int n, double turns = 1.0) {
+  Fan f;
+  for (int k = 0; k < n; ++k) {
+    const double a = 2.0 * M_PI * turns * k / n;
+    f.ring.emplace_back(std::cos(a), std::sin(a), 0.0);
+  }
+  return f;
+}
+
+}  // namespace
+
+TEST(FacesAroundProjectFlat, a_flat_fan_a_cone_and_a_saddle_are_flat) {
+  EXPECT_TRUE(regular_fan(6).flat());
+  Fan cone = regular_fan(7);
+  cone.x = Vec3(0, 0, 2.0);  // the apex of a steep cone
+  EXPECT_TRUE(cone.flat());
+  Fan saddle = regular_fan(8);
+  for (std::size_t k = 0; k < saddle.ring.size(); ++k) saddle.ring[k].z() = k % 2 ? 0.8 : -0.8;
+  EXPECT_TRUE(saddle.flat());
+}
+
+TEST(FacesAroundProjectFlat, a_fold_a_double_winding_or_a_broken_cycle_is_not) {
+  Fan folded = regular_fan(6);
+  folded.ring[2] = Vec3(0.9, 0.6, 0.0);  // pulled back onto its neighbour's face
+  EXPECT_FALSE(folded.flat());
+  EXPECT_TRUE(folded.any_pair_improper());
+  // Twelve faces winding twice around x, every one turning the same way.
+  Fan twice = regular_fan(12, 2.0);
+  for (std::size_t k = 0; k < twice.ring.size(); ++k) twice.ring[k].z() = 0.1 * static_cast<double>(k);
+  EXPECT_FALSE(twice.flat());
+  // A fan whose ids do not close one cycle (two faces leave corner 2).
+  const Fan fan = regular_fan(6);
+  auto ids = fan.ids();
+  ids[3][0] = 2;
+  EXPECT_FALSE(gdm::faces_around_project_flat(fan.x, fan.others(), ids));
+  // A degenerate face (two corners on one ray from x).
+  Fan thin = regular_fan(6);
+  thin.ring[1] = 0.5 * thin.ring[0];
+  EXPECT_FALSE(thin.flat());
+}
+
+// Soundness: whenever the test says flat, no two faces meet improperly, on
+// random fans from gentle to wild (which often fold).
+TEST(FacesAroundProjectFlat, flat_fans_never_hold_an_improper_pair) {
+  std::mt19937 rng(2026);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  int flat = 0, not_flat = 0, improper = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    const int n = 3 + trial % 8;
+    const double wild = 0.1 + 1.5 * (trial % 10) / 10.0;  // how far corners stray from the regular fan
+    Fan fan = regular_fan(n);
+    for (auto& p : fan.ring) p += wild * Vec3(unit(rng), unit(rng), unit(rng));
+    fan.x = 0.3 * wild * Vec3(unit(rng), unit(rng), unit(rng));
+    const bool bad = fan.any_pair_improper();
+    improper += bad;
+    if (fan.flat()) {
+      ++flat;
+      ASSERT_FALSE(bad) << "trial " << trial;
+    } else {
+      ++not_flat;
+    }
+  }
+  std::printf("random fans: %d flat, %d not (%d with an improper pair)\n", flat, not_flat, improper);
+  EXPECT_GT(flat, 2000);
+  EXPECT_GT(improper, 2000);
+}
