@@ -301,8 +301,7 @@ bool CollapseChecker::geometry_ok(Mesh::HalfedgeHandle h, const CollapseOptions&
 }
 
 bool CollapseChecker::flat_after_collapse(int x, Mesh::FaceHandle gone0, Mesh::FaceHandle gone1, Scratch& s) const {
-  for (const auto& [id, verdict] : s.flat_corners)
-    if (id == x) return verdict == 1;
+  if (const int known = s.flat_corners.verdict(x); known >= 0) return known == 1;
   const Mesh& mesh = *mesh_;
   std::vector<std::array<Vec3, 2>>& others = s.corner_faces;
   others.clear();
@@ -338,7 +337,7 @@ bool CollapseChecker::flat_after_collapse(int x, Mesh::FaceHandle gone0, Mesh::F
     }
   }
   const bool yes = closed && faces_around_project_flat(at, others, ids);
-  s.flat_corners.emplace_back(x, yes ? 1 : 2);
+  s.flat_corners.set(x, yes);
   return yes;
 }
 
@@ -349,7 +348,7 @@ bool CollapseChecker::moved_faces_clear(Mesh::FaceHandle gone0, Mesh::FaceHandle
   // pair with a corner whose faces, after the collapse, project one-to-one
   // onto a plane cannot meet improperly, and its test is skipped (the same
   // answer, as in IntersectionGuard::move_is_safe).
-  s.flat_corners.clear();
+  s.flat_corners.next_check(mesh.n_vertices());
   const auto share_a_flat_corner = [&](const std::array<int, 3>& a, const std::array<int, 3>& b) {
     for (int x : a)
       if ((x == b[0] || x == b[1] || x == b[2]) && flat_after_collapse(x, gone0, gone1, s)) return true;
