@@ -301,7 +301,8 @@ bool CollapseChecker::geometry_ok(Mesh::HalfedgeHandle h, const CollapseOptions&
 }
 
 bool CollapseChecker::flat_after_collapse(int x, Mesh::FaceHandle gone0, Mesh::FaceHandle gone1, Scratch& s) const {
-  if (const int known = s.flat_corners.verdict(x); known >= 0) return known == 1;
+  for (const auto& [id, verdict] : s.flat_corners)
+    if (id == x) return verdict == 1;
   const Mesh& mesh = *mesh_;
   std::vector<std::array<Vec3, 2>>& others = s.corner_faces;
   others.clear();
@@ -337,7 +338,7 @@ bool CollapseChecker::flat_after_collapse(int x, Mesh::FaceHandle gone0, Mesh::F
     }
   }
   const bool yes = closed && faces_around_project_flat(at, others, ids);
-  s.flat_corners.set(x, yes);
+  s.flat_corners.emplace_back(x, yes ? 1 : 2);
   return yes;
 }
 
@@ -348,7 +349,7 @@ bool CollapseChecker::moved_faces_clear(Mesh::FaceHandle gone0, Mesh::FaceHandle
   // pair with a corner whose faces, after the collapse, project one-to-one
   // onto a plane cannot meet improperly, and its test is skipped (the same
   // answer, as in IntersectionGuard::move_is_safe).
-  s.flat_corners.next_check(mesh.n_vertices());
+  s.flat_corners.clear();
   const auto share_a_flat_corner = [&](const std::array<int, 3>& a, const std::array<int, 3>& b) {
     for (int x : a)
       if ((x == b[0] || x == b[1] || x == b[2]) && flat_after_collapse(x, gone0, gone1, s)) return true;

@@ -121,11 +121,12 @@ bool IntersectionGuard::move_is_safe(Mesh::VertexHandle v, const Vec3& p, int hi
   // with a corner whose faces project one-to-one onto a plane cannot meet
   // improperly (faces_around_project_flat), and that pair's test is
   // skipped: the same answer, without the tests. Each corner's verdict is
-  // kept for the check.
-  FlatCorners& flat = checker.flat_corners;
-  flat.next_check(mesh_->n_vertices());
+  // kept for the check (1: flat, 2: not).
+  std::vector<std::pair<int, char>>& flat = checker.flat_corners;
+  flat.clear();
   const auto corner_is_flat = [&](int x) {
-    if (const int known = flat.verdict(x); known >= 0) return known == 1;
+    for (const auto& [id, verdict] : flat)
+      if (id == x) return verdict == 1;
     const auto where = [&](Mesh::VertexHandle w) { return w == v ? p : to_eigen(mesh_->point(w)); };
     std::vector<std::array<Vec3, 2>>& others = checker.corner_faces;
     std::vector<std::array<int, 2>>& ids = checker.corner_ids;
@@ -139,7 +140,7 @@ bool IntersectionGuard::move_is_safe(Mesh::VertexHandle v, const Vec3& p, int hi
       ids.push_back({a.idx(), b.idx()});
     }
     const bool yes = closed && faces_around_project_flat(where(Mesh::VertexHandle(x)), others, ids);
-    flat.set(x, yes);
+    flat.emplace_back(x, yes ? 1 : 2);
     return yes;
   };
   const auto share_a_flat_corner = [&](const std::array<int, 3>& a, const std::array<int, 3>& b) {

@@ -510,29 +510,24 @@ bool faces_around_project_flat(const Vec3& x, const std::vector<std::array<Vec3,
   // The windings below are counted exactly only around one closed cycle
   // of faces (a collapse the link condition refuses may leave others).
   if (others.size() < 3 || ids.size() != others.size() || !one_cycle(ids)) return false;
-  // The plane: the coordinate plane across the summed normal's largest
-  // component (dropping a coordinate is a linear map of rank two, which is
-  // all the argument needs; no square root, no dot products).
   Vec3 normal = Vec3::Zero();
   for (const auto& [a, b] : others) normal += (a - x).cross(b - x);
-  if (!std::isfinite(normal.squaredNorm())) return false;
-  int axis = 0;
-  normal.cwiseAbs().maxCoeff(&axis);
-  if (!(normal[axis] != 0.0)) return false;
-  const int i = (axis + 1) % 3, j = (axis + 2) % 3;
-  const double sense = normal[axis] > 0.0 ? 1.0 : -1.0;  // the images turn this way
-  // The windings: the turns that reach the plane's first axis from below
-  // (each turn is less than half a circle, and around one closed cycle they
-  // count the windings exactly).
+  if (!(normal.squaredNorm() > 0.0) || !std::isfinite(normal.squaredNorm())) return false;
+  // Any linear map of rank two shows it: the basis need not be exactly
+  // orthonormal (t1 x t2 is along the normal).
+  const Vec3 t1 = normal.unitOrthogonal(), t2 = normal.cross(t1);
+  const double basis = t1.norm() * t2.norm();
+  // The windings: the turns that reach the map's first axis from below
+  // (each turn is less than half a circle, and around a vertex of a closed
+  // manifold they close, so they count the windings exactly).
   int windings = 0;
   for (const auto& [pa, pb] : others) {
-    const double ax = pa[i] - x[i], ay = pa[j] - x[j], bx = pb[i] - x[i], by = pb[j] - x[j];
-    // The rounding of the differences and the products is a few units in
-    // the last place of |ax by| + |ay bx|; the margin is about a million
-    // times that.
-    const double p = ax * by, q = ay * bx;
-    if (!(sense * (p - q) > 1e-9 * (std::abs(p) + std::abs(q)))) return false;
-    if (sense * ay < 0.0 && sense * by >= 0.0) ++windings;
+    const Vec3 a = pa - x, b = pb - x;
+    const double ax = a.dot(t1), ay = a.dot(t2), bx = b.dot(t1), by = b.dot(t2);
+    // The rounding of these is a few units in the last place of |a| |t| and
+    // |b| |t|; the margin is about a million times that.
+    if (!(ax * by - ay * bx > 1e-9 * a.norm() * b.norm() * basis)) return false;
+    if (ay < 0.0 && by >= 0.0) ++windings;
   }
   return windings == 1;
 }

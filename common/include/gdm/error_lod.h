@@ -120,7 +120,7 @@ class CollapseChecker {
     // `created`), where both go.
     Mesh::VertexHandle v0, v1;
     Vec3 target = Vec3::Zero();
-    FlatCorners flat_corners;                        // per check: whether a vertex's faces project flat
+    std::vector<std::pair<int, char>> flat_corners;  // per check: vertex, 1 when its faces project flat, else 2
     std::vector<std::array<Vec3, 2>> corner_faces;   // a corner's faces after the collapse, their other corners
     std::vector<std::array<int, 2>> corner_ids;      // ... and those corners' vertex ids
   };

@@ -9,9 +9,7 @@
 // between 1e-70 and 1e70 are safe); inputs must be finite.
 #pragma once
 
-#include <algorithm>
 #include <array>
-#include <cstdint>
 #include <vector>
 
 #include <Eigen/Core>
@@ -66,42 +64,16 @@ bool triangles_intersect_improperly(const std::array<Vec3, 3>& t1,
 // Whether the faces around a vertex at x, each given by its other two
 // corners in the face's order (x, a, b) (`others`: where they are; `ids`:
 // their vertex ids), close one cycle around x (each b the next face's a)
-// and project one-to-one onto the coordinate plane across their summed
-// normal's largest component: every face turns from a - x to b - x the
-// normal's way by a margin far above rounding, and the turns wind once
-// around x. Then no two of these faces meet
+// and project one-to-one onto a plane:
+// along their summed normal, every face turns from a - x to b - x
+// counterclockwise by a margin far above the rounding of the projection,
+// and the turns wind once around x. Then no two of these faces meet
 // improperly (triangles_intersect_improperly is false for every pair): a
 // point both hold projects into both images, which share only x's image or
 // that of an edge both have, and each face maps one-to-one onto its image.
 // A sufficient test (false when unsure).
 bool faces_around_project_flat(const Vec3& x, const std::vector<std::array<Vec3, 2>>& others,
                                const std::vector<std::array<int, 2>>& ids);
-
-// faces_around_project_flat's verdicts by vertex index for one check (a
-// move, a collapse), forgotten at the next: a stamp per vertex, so a look-up
-// is one read.
-class FlatCorners {
- public:
-  // Forgets every verdict; vertex indices below n.
-  void next_check(std::size_t n) {
-    if (mark_.size() < n) mark_.resize(n, 0);
-    if (epoch_ >= 0xfffffff0u) {
-      std::fill(mark_.begin(), mark_.end(), 0u);
-      epoch_ = 0;
-    }
-    epoch_ += 2;
-  }
-  // 1: flat, 0: not, -1: not known yet.
-  int verdict(int x) const {
-    const std::uint32_t m = mark_[static_cast<std::size_t>(x)];
-    return m == epoch_ ? 1 : (m == epoch_ + 1 ? 0 : -1);
-  }
-  void set(int x, bool flat) { mark_[static_cast<std::size_t>(x)] = flat ? epoch_ : epoch_ + 1; }
-
- private:
-  std::vector<std::uint32_t> mark_;
-  std::uint32_t epoch_ = 0;
-};
 
 // A triangle with what the predicate's floating-point filter computes of
 // it, for a caller that tests one triangle against many (the intersection
