@@ -286,9 +286,6 @@ bool CollapseChecker::geometry_ok(Mesh::HalfedgeHandle h, const CollapseOptions&
   };
   s.created.clear();
   s.moved.clear();
-  s.v0 = v0;
-  s.v1 = v1;
-  s.target = target;
   const bool all_kept = for_each_face_moved_by_collapse(mesh, h, [&](Mesh::FaceHandle f) {
     const Tri after = moved(f);
     if (!moved_face_ok(face_tri(mesh, f), after, min_cos, o.min_angle)) return false;
@@ -300,61 +297,8 @@ bool CollapseChecker::geometry_ok(Mesh::HalfedgeHandle h, const CollapseOptions&
   return moved_faces_clear(gone0, gone1, s);
 }
 
-bool CollapseChecker::flat_after_collapse(int x, Mesh::FaceHandle gone0, Mesh::FaceHandle gone1, Scratch& s) const {
-  for (const auto& [id, verdict] : s.flat_corners)
-    if (id == x) return verdict == 1;
-  const Mesh& mesh = *mesh_;
-  std::vector<std::array<Vec3, 2>>& others = s.corner_faces;
-  others.clear();
-  std::vector<std::array<int, 2>>& ids = s.corner_ids;
-  ids.clear();
-  bool closed = true;
-  Vec3 at;
-  if (x == s.v1.idx()) {
-    // The kept vertex: its faces are the moved ones.
-    at = s.target;
-    for (const FilteredTriangle& t : s.created) {
-      int k = 0;
-      while (k < 2 && t.id[static_cast<std::size_t>(k)] != x) ++k;
-      others.push_back({t.p[static_cast<std::size_t>((k + 1) % 3)], t.p[static_cast<std::size_t>((k + 2) % 3)]});
-      ids.push_back({t.id[static_cast<std::size_t>((k + 1) % 3)], t.id[static_cast<std::size_t>((k + 2) % 3)]});
-    }
-  } else {
-    // Any other: its faces but the two deleted, both ends of the edge at the target.
-    const auto where = [&](Mesh::VertexHandle w) { return w == s.v0 || w == s.v1 ? s.target : pos(mesh, w); };
-    const auto id = [&](Mesh::VertexHandle w) { return w == s.v0 ? s.v1.idx() : w.idx(); };
-    const Mesh::VertexHandle xv(x);
-    at = pos(mesh, xv);
-    for (auto h : mesh.voh_range(xv)) {
-      if (mesh.is_boundary(h)) {
-        closed = false;
-        break;
-      }
-      const auto f = mesh.face_handle(h);
-      if (f == gone0 || f == gone1) continue;
-      const auto a = mesh.to_vertex_handle(h), b = mesh.to_vertex_handle(mesh.next_halfedge_handle(h));
-      others.push_back({where(a), where(b)});
-      ids.push_back({id(a), id(b)});
-    }
-  }
-  const bool yes = closed && faces_around_project_flat(at, others, ids);
-  s.flat_corners.emplace_back(x, yes ? 1 : 2);
-  return yes;
-}
-
 bool CollapseChecker::moved_faces_clear(Mesh::FaceHandle gone0, Mesh::FaceHandle gone1, Scratch& s) const {
   const Mesh& mesh = *mesh_;
-  // Most pairs tested share a corner (the moved faces all share the kept
-  // vertex; the faces near them are mostly around their other corners): a
-  // pair with a corner whose faces, after the collapse, project one-to-one
-  // onto a plane cannot meet improperly, and its test is skipped (the same
-  // answer, as in IntersectionGuard::move_is_safe).
-  s.flat_corners.clear();
-  const auto share_a_flat_corner = [&](const std::array<int, 3>& a, const std::array<int, 3>& b) {
-    for (int x : a)
-      if ((x == b[0] || x == b[1] || x == b[2]) && flat_after_collapse(x, gone0, gone1, s)) return true;
-    return false;
-  };
   const std::vector<int>& moved = s.moved;
   const std::vector<FilteredTriangle>& created = s.created;
   std::vector<Vec3>& box_lo = s.lo;  // each moved face's box
@@ -380,7 +324,7 @@ bool CollapseChecker::moved_faces_clear(Mesh::FaceHandle gone0, Mesh::FaceHandle
   // The moved faces among themselves (the grid holds their old boxes).
   for (std::size_t i = 0; i < created.size(); ++i)
     for (std::size_t j = i + 1; j < created.size(); ++j)
-      if (!apart(box_lo[i], box_hi[i], box_lo[j], box_hi[j]) && !share_a_flat_corner(created[i].id, created[j].id) &&
+      if (!apart(box_lo[i], box_hi[i], box_lo[j], box_hi[j]) &&
           triangles_intersect_improperly(created[i], created[j],
                                          scale(box_lo[i], box_hi[i], box_lo[j], box_hi[j])))
         return false;
@@ -401,7 +345,6 @@ bool CollapseChecker::moved_faces_clear(Mesh::FaceHandle gone0, Mesh::FaceHandle
     std::optional<FilteredTriangle> other;  // built for the first moved face its box meets
     for (std::size_t i = 0; i < created.size(); ++i) {
       if (apart(olo, ohi, box_lo[i], box_hi[i])) continue;
-      if (share_a_flat_corner(created[i].id, t.id)) continue;
       if (!other) other.emplace(t.p, t.id);
       if (triangles_intersect_improperly(created[i], *other, scale(olo, ohi, box_lo[i], box_hi[i])))
         return true;

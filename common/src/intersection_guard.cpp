@@ -116,38 +116,6 @@ bool IntersectionGuard::move_is_safe(Mesh::VertexHandle v, const Vec3& p, int hi
   std::vector<int>& ring_faces = checker.ring_faces;
   ring_faces.clear();
   for (auto f : mesh_->vf_range(v)) ring_faces.push_back(f.idx());
-  // Most pairs a check tests are the fan's faces against the faces around
-  // their corners (on the phantoms of gdm_core_benchmark, 97 %): two faces
-  // with a corner whose faces project one-to-one onto a plane cannot meet
-  // improperly (faces_around_project_flat), and that pair's test is
-  // skipped: the same answer, without the tests. Each corner's verdict is
-  // kept for the check (1: flat, 2: not).
-  std::vector<std::pair<int, char>>& flat = checker.flat_corners;
-  flat.clear();
-  const auto corner_is_flat = [&](int x) {
-    for (const auto& [id, verdict] : flat)
-      if (id == x) return verdict == 1;
-    const auto where = [&](Mesh::VertexHandle w) { return w == v ? p : to_eigen(mesh_->point(w)); };
-    std::vector<std::array<Vec3, 2>>& others = checker.corner_faces;
-    std::vector<std::array<int, 2>>& ids = checker.corner_ids;
-    others.clear();
-    ids.clear();
-    bool closed = true;
-    for (auto h : mesh_->voh_range(Mesh::VertexHandle(x))) {
-      closed = closed && !mesh_->is_boundary(h);
-      const auto a = mesh_->to_vertex_handle(h), b = mesh_->to_vertex_handle(mesh_->next_halfedge_handle(h));
-      others.push_back({where(a), where(b)});
-      ids.push_back({a.idx(), b.idx()});
-    }
-    const bool yes = closed && faces_around_project_flat(where(Mesh::VertexHandle(x)), others, ids);
-    flat.emplace_back(x, yes ? 1 : 2);
-    return yes;
-  };
-  const auto share_a_flat_corner = [&](const std::array<int, 3>& a, const std::array<int, 3>& b) {
-    for (int x : a)
-      if ((x == b[0] || x == b[1] || x == b[2]) && corner_is_flat(x)) return true;
-    return false;
-  };
   // One grid query for the whole moved fan: every candidate face is built
   // once and tested against each fan face whose box it meets. Pairs within
   // the fan are checked too (their shared vertex is known to the predicate),
@@ -200,7 +168,6 @@ bool IntersectionGuard::move_is_safe(Mesh::VertexHandle v, const Vec3& p, int hi
     bool built = false;
     for (std::size_t i = 0; i < end; ++i) {
       if ((olo.array() > boxes[i].second.array()).any() || (ohi.array() < boxes[i].first.array()).any()) continue;
-      if (share_a_flat_corner(fan[i].id, t.id)) continue;
       if (!built) {
         other = FilteredTriangle(t.p, t.id);
         built = true;

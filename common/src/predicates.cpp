@@ -484,54 +484,6 @@ bool triangles_intersect_improperly(const std::array<Vec3, 3>& t1,
   return intersect_improperly_after_the_plane_filter(t1, ids1, t2, ids2);
 }
 
-namespace {
-
-// Whether the corner pairs (a, b) close one cycle, each b the next one's a.
-bool one_cycle(const std::vector<std::array<int, 2>>& ab) {
-  std::size_t at = 0, steps = 0;
-  do {
-    std::size_t next = ab.size();
-    for (std::size_t k = 0; k < ab.size(); ++k)
-      if (ab[k][0] == ab[at][1]) {
-        if (next != ab.size()) return false;  // two go on from one corner
-        next = k;
-      }
-    if (next == ab.size()) return false;
-    at = next;
-    ++steps;
-  } while (at != 0 && steps <= ab.size());
-  return at == 0 && steps == ab.size();
-}
-
-}  // namespace
-
-bool faces_around_project_flat(const Vec3& x, const std::vector<std::array<Vec3, 2>>& others,
-                               const std::vector<std::array<int, 2>>& ids) {
-  // The windings below are counted exactly only around one closed cycle
-  // of faces (a collapse the link condition refuses may leave others).
-  if (others.size() < 3 || ids.size() != others.size() || !one_cycle(ids)) return false;
-  Vec3 normal = Vec3::Zero();
-  for (const auto& [a, b] : others) normal += (a - x).cross(b - x);
-  if (!(normal.squaredNorm() > 0.0) || !std::isfinite(normal.squaredNorm())) return false;
-  // Any linear map of rank two shows it: the basis need not be exactly
-  // orthonormal (t1 x t2 is along the normal).
-  const Vec3 t1 = normal.unitOrthogonal(), t2 = normal.cross(t1);
-  const double basis = t1.norm() * t2.norm();
-  // The windings: the turns that reach the map's first axis from below
-  // (each turn is less than half a circle, and around a vertex of a closed
-  // manifold they close, so they count the windings exactly).
-  int windings = 0;
-  for (const auto& [pa, pb] : others) {
-    const Vec3 a = pa - x, b = pb - x;
-    const double ax = a.dot(t1), ay = a.dot(t2), bx = b.dot(t1), by = b.dot(t2);
-    // The rounding of these is a few units in the last place of |a| |t| and
-    // |b| |t|; the margin is about a million times that.
-    if (!(ax * by - ay * bx > 1e-9 * a.norm() * b.norm() * basis)) return false;
-    if (ay < 0.0 && by >= 0.0) ++windings;
-  }
-  return windings == 1;
-}
-
 FilteredTriangle::FilteredTriangle(const std::array<Vec3, 3>& points, const std::array<int, 3>& ids)
     : p(points), id(ids), normal((points[1] - points[0]).cross(points[2] - points[0])), length(normal.norm()) {}
 

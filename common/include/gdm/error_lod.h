@@ -116,13 +116,6 @@ class CollapseChecker {
     std::vector<Vec3> lo, hi;
     std::vector<std::uint32_t> stamps;
     std::uint32_t stamp = 0;
-    // The collapse checked: the vertex removed, the one kept (its index in
-    // `created`), where both go.
-    Mesh::VertexHandle v0, v1;
-    Vec3 target = Vec3::Zero();
-    std::vector<std::pair<int, char>> flat_corners;  // per check: vertex, 1 when its faces project flat, else 2
-    std::vector<std::array<Vec3, 2>> corner_faces;   // a corner's faces after the collapse, their other corners
-    std::vector<std::array<int, 2>> corner_ids;      // ... and those corners' vertex ids
   };
   // The same answer, reading the mesh and the grid only: threads may run it
   // at once, each with its own scratch, while nothing changes the mesh.
@@ -137,10 +130,6 @@ class CollapseChecker {
   // puts them) free of improper intersections among themselves and with
   // every other face but the two the collapse deletes?
   bool moved_faces_clear(Mesh::FaceHandle gone0, Mesh::FaceHandle gone1, Scratch& s) const;
-  // Whether the faces around vertex x after the collapse (s.v0, s.v1, s.target)
-  // project one-to-one onto a plane (faces_around_project_flat): then no
-  // two of them meet improperly. Kept per check in s.flat_corners.
-  bool flat_after_collapse(int x, Mesh::FaceHandle gone0, Mesh::FaceHandle gone1, Scratch& s) const;
 
   const Mesh* mesh_;
   FaceGrid grid_;    // the intersection guard's grid, without a margin

@@ -62,9 +62,6 @@ class IntersectionGuard {
     std::vector<int> ring_faces;
     std::vector<FilteredTriangle> fan;
     std::vector<std::pair<Vec3, Vec3>> boxes;
-    std::vector<std::pair<int, char>> flat_corners;  // per check: vertex, 1 when its faces project flat, else 2
-    std::vector<std::array<Vec3, 2>> corner_faces;   // scratch: a corner's faces, their other corners
-    std::vector<std::array<int, 2>> corner_ids;      // ... and those corners' vertex ids
     std::vector<int> moved;          // vertices of the moves it allowed
     std::size_t rejected = 0;        // moves it refused
     int last_blocking_face = -1;     // as last_blocking_face(), for its last refusal

@@ -10,7 +10,6 @@
 #pragma once
 
 #include <array>
-#include <vector>
 
 #include <Eigen/Core>
 
@@ -60,20 +59,6 @@ bool triangles_intersect_improperly(const std::array<Vec3, 3>& t1,
                                     const std::array<int, 3>& ids1,
                                     const std::array<Vec3, 3>& t2,
                                     const std::array<int, 3>& ids2);
-
-// Whether the faces around a vertex at x, each given by its other two
-// corners in the face's order (x, a, b) (`others`: where they are; `ids`:
-// their vertex ids), close one cycle around x (each b the next face's a)
-// and project one-to-one onto a plane:
-// along their summed normal, every face turns from a - x to b - x
-// counterclockwise by a margin far above the rounding of the projection,
-// and the turns wind once around x. Then no two of these faces meet
-// improperly (triangles_intersect_improperly is false for every pair): a
-// point both hold projects into both images, which share only x's image or
-// that of an edge both have, and each face maps one-to-one onto its image.
-// A sufficient test (false when unsure).
-bool faces_around_project_flat(const Vec3& x, const std::vector<std::array<Vec3, 2>>& others,
-                               const std::vector<std::array<int, 2>>& ids);
 
 // A triangle with what the predicate's floating-point filter computes of
 // it, for a caller that tests one triangle against many (the intersection
