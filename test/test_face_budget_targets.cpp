@@ -3,7 +3,7 @@
 // phantoms (Gaussian noise 5 to 10 % of the contrast) at 10 % of marching
 // cubes' faces the mean distance to the analytic surface (over vertices, face
 // centroids and edge midpoints) at most 0.07 voxel and its 95th percentile at
-// most 0.18 (met on two of the four phantoms, see below); the creases of
+// most 0.18 (met on three of the four phantoms, see below); the creases of
 // the cube with a corner missing (section 6.1) at 5 %; impulse noise (dark
 // specks inside the object) pulls the reduced model less into the specks;
 // the budget in shrink mode. Phantoms built here; distances in voxels.
@@ -101,19 +101,20 @@ void expect_budget_met(const Outcome& out, const std::string& name) {
 }  // namespace
 
 // The issue's accuracy target at 10 % of marching cubes' faces: mean at most
-// 0.07 voxel, p95 at most 0.18. Met on the noisy sphere (measured 0.032 /
-// 0.077) and the noisy C tube (0.048 / 0.115), asserted there. Not met yet,
-// so only the budget and the guarantees are asserted (issue 16 stays open):
-// the noisy ellipsoid on 0.5 x 0.5 x 2 mm voxels (0.091 / 0.208) and the
-// branching tube with 10 % noise (0.072 / 0.177, the mean 0.002 over).
+// 0.07 voxel, p95 at most 0.18. Met on the noisy sphere (measured 0.029 /
+// 0.066), the noisy C tube (0.049 / 0.118) and the noisy ellipsoid on
+// 0.5 x 0.5 x 2 mm voxels (0.063 / 0.145; 0.091 / 0.208 when this test was
+// written, 0.065 / 0.147 before the fit's over-relaxation, stop 57), asserted
+// there. Not met yet, so only the budget and the guarantees are asserted
+// (issue 16 stays open): the branching tube with 10 % noise (0.077 / 0.203).
 TEST(FaceBudgetTargets, noisy_phantoms_at_a_tenth_of_marching_cubes_faces) {
-  for (const Case& c : {noisy_sphere(), noisy_c_tube()}) {
+  for (const Case& c : {noisy_sphere(), noisy_c_tube(), noisy_ellipsoid()}) {
     const Outcome out = run(c, 0.10);
     expect_budget_met(out, c.name);
     EXPECT_LE(out.distance.mean, 0.07) << c.name;
     EXPECT_LE(out.distance.p95, 0.18) << c.name;
   }
-  for (const Case& c : {noisy_ellipsoid(), noisy_branching()}) expect_budget_met(run(c, 0.10), c.name);
+  expect_budget_met(run(noisy_branching(), 0.10), "branching");
 }
 
 // Section 6.1's cube with a corner missing (convex edges and corners, concave

@@ -430,7 +430,7 @@ FitResult fit_to_threshold(Mesh& mesh, const Volume& volume, double threshold, c
     for (auto v : mesh.vertices()) {
       if (!has[v.idx()] || !active[v.idx()]) continue;
       const Vec3 p = pos(mesh, v);
-      Vec3 target = p + smoothed[v.idx()] * normal[v.idx()];
+      Vec3 target = p + o.over_relaxation * smoothed[v.idx()] * normal[v.idx()];
       const Vec3& anchor = origin[v.idx()];
       const auto vi = static_cast<std::size_t>(v.idx());
       const double bound =

@@ -24,7 +24,7 @@ def test_phantom_same_mesh_as_the_command(cli, tmp_path):
     volume, spacing, origin, direction = gdm.read_image(PHANTOM)
     result = gdm.extract_surface(volume, spacing, origin, direction, threshold=400)
     same_mesh(result, tmp_path / "cli.obj")
-    assert len(result.faces) == 3914  # the README's figure
+    assert len(result.faces) == 3918  # the README's figure
     # gdm.write_mesh writes the command's bytes
     gdm.write_mesh(tmp_path / "py.obj", result)
     gdm.write_mesh(tmp_path / "py.ply", result)

@@ -41,6 +41,10 @@ struct FitOptions {
   double quadric_step = 1.0;    // share of that pull a vertex goes per pass, in (0, 1]: every vertex
                                 // moves at once, so a strong pull (most vertices within s) needs a
                                 // damped step or the ring's finest mode is swapped, not smoothed
+  double over_relaxation = 1.0;  // each pass moves a vertex this many times its offset, in [1, 2): the
+                                // offsets of neighbours averaged in a ring shrink a lone vertex's step,
+                                // so at 1 the passes creep toward the fixed point and moves under
+                                // `still` stop them short of it (README, stop 57)
   std::vector<double> vertex_max_distance;  // mm, by vertex index: where given (and > 0) it replaces
                                             // max_distance for that vertex; empty: max_distance for all
   bool prevent_self_intersection = true;  // every move checked by the IntersectionGuard
