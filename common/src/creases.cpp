@@ -166,6 +166,46 @@ class CreaseMaker {
     return true;
   }
 
+  // Each face's support: the sum of the areas of the faces whose normals
+  // lie within the spread of its own (itself included), in face order.
+  // Branch-free (issue 17): near an edge about half the pairs agree, and
+  // a branch per pair mispredicted that often. The pairs' agreement first
+  // (1.0 or 0.0, each dot product summed as Eigen's Vec3::dot sums it),
+  // then every sum in face order, a disagreeing face adding 0.0: the same
+  // sums, bit for bit, as adding only the agreeing faces' areas. More
+  // instructions (the cube of gdm_core_benchmark: 2.21 -> 2.26 G), less
+  // time (its fit stage, runs interleaved: 202-209 -> 192-198 ms).
+  void face_supports(const std::vector<FaceSample>& faces, std::vector<double>& support) const {
+    const std::size_t count = faces.size();
+    thread_local std::vector<double> nx, ny, nz, area;
+    thread_local std::vector<double> agree;  // count x count: 1.0 where the pair agrees, 0.0 where not
+    nx.resize(count);
+    ny.resize(count);
+    nz.resize(count);
+    area.resize(count);
+    for (std::size_t i = 0; i < count; ++i) {
+      nx[i] = faces[i].normal[0];
+      ny[i] = faces[i].normal[1];
+      nz[i] = faces[i].normal[2];
+      area[i] = faces[i].area;
+    }
+    agree.resize(count * count);
+    for (std::size_t i = 0; i < count; ++i) {
+      double* row = agree.data() + i * count;
+      const double x = nx[i], y = ny[i], z = nz[i];
+      row[i] = 1.0;
+      for (std::size_t j = i + 1; j < count; ++j) row[j] = (x * nx[j] + y * ny[j]) + z * nz[j] >= cos_spread_ ? 1.0 : 0.0;
+      for (std::size_t j = i + 1; j < count; ++j) agree[j * count + i] = row[j];
+    }
+    // Face j's area added to every support at once: each sum still in face order.
+    support.assign(count, 0.0);
+    for (std::size_t j = 0; j < count; ++j) {
+      const double a = area[j];
+      const double* row = agree.data() + j * count;
+      for (std::size_t k = 0; k < count; ++k) support[k] += row[k] * a;
+    }
+  }
+
   // Seeds: the normal most of the faces' area agrees with (within the
   // spread), then the one most agree with among the faces at least the edge
   // angle from it, then one at least that far from both (a corner).
@@ -173,15 +213,7 @@ class CreaseMaker {
     // Each face's support (the area of the faces within the spread of its
     // normal) once; a seed is the best supported face apart from the seeds.
     thread_local std::vector<double> support;
-    support.assign(faces.size(), 0.0);
-    for (std::size_t i = 0; i < faces.size(); ++i) {
-      support[i] += faces[i].area;
-      for (std::size_t j = i + 1; j < faces.size(); ++j)
-        if (faces[i].normal.dot(faces[j].normal) >= cos_spread_) {
-          support[i] += faces[j].area;
-          support[j] += faces[i].area;
-        }
-    }
+    face_supports(faces, support);
     std::vector<Vec3> seeds;
     for (int k = 0; k < 3; ++k) {
       double best = 0.0;
