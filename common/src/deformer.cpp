@@ -367,7 +367,10 @@ class Deformer {
   void refine_for_budget(int cycle, const FitOptions& fit, std::vector<Vec3>& origin, DeformResult& result);
   void reduce_to_budget(const FitOptions& fit, DeformResult& result);
   void sharpen_edges(const FitOptions& fit, DeformResult& result);
-  void use_image_noise(FitOptions& fit) const;
+  // What the voxels' noise around the model makes of a crossing, mm
+  // (estimate_edge_noise over the model's box).
+  double image_edge_noise() const;
+  void use_image_noise(FitOptions& fit, double edge) const;
   void settle_budget(DeformResult& result);
 
   Mesh& mesh_;
@@ -1267,6 +1270,13 @@ void Deformer::finish(int cycle, DeformResult& result) {
   fit.threads = threads_;
   // The fit keeps what a vertex alone sees in proportion to the image noise.
   fit.noise = estimate_crossing_noise(mesh_, volume_, o_.threshold, std::max(1.5, 3.0 * o_.lod_tolerance) * voxel_, threads_);
+  // A quiet image (its voxels' noise explains no more than the crossings'):
+  // with curvature_correction the crossings are corrected for the trilinear
+  // field's bias on curved parts (FitOptions::curvature_correction); on a
+  // noisy one the correction was no gain (README, stop 58).
+  const double image_noise = image_edge_noise();
+  const bool quiet = !(image_noise > fit.noise);
+  fit.curvature_correction = o_.curvature_correction && quiet;
   const FitOptions crossing_fit = fit;
   // The model's fit and the budget's last one step past the offsets
   // (kFitOverRelaxation); the level of detail's rounds and the budget's
@@ -1275,7 +1285,7 @@ void Deformer::finish(int cycle, DeformResult& result) {
   // Not (yet) with the level of detail: its collapses and splits are tuned
   // against the crossing estimate (the 25 degree bound's cost on the
   // branching tube at lod_tolerance 0.1 rises 0.016 -> 0.020 voxel with it).
-  if (!lod) use_image_noise(fit);
+  if (!lod && !quiet) use_image_noise(fit, image_noise);
   std::vector<Vec3> origin;  // where the deformation left each vertex (new ones: where created)
   if (o_.subvoxel_fit || budget) result.fit_moves += fit_to_threshold(mesh_, volume_, o_.threshold, fit, origin).moves;
   if (o_.subvoxel_fit && !budget) sharpen_edges(fit, result);
@@ -1312,6 +1322,19 @@ void Deformer::finish(int cycle, DeformResult& result) {
   clock.add_to(result.seconds.error_lod);
 }
 
+// What the voxels' noise makes of a crossing where the model is
+// (estimate_edge_noise; the voxels of the model's box, so a crop around the
+// object changes nothing).
+double Deformer::image_edge_noise() const {
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (auto v : mesh_.vertices()) {
+    lo = lo.cwiseMin(to_eigen(mesh_.point(v)));
+    hi = hi.cwiseMax(to_eigen(mesh_.point(v)));
+  }
+  const Vec3 margin = Vec3::Constant(2.0 * voxel_);
+  return estimate_edge_noise(mesh_, volume_, estimate_voxel_noise(volume_, lo - margin, hi + margin), threads_);
+}
+
 // Beyond the paper (issue 16): the crossing estimate reads the noise off
 // crossings a voxel apart, which interpolate the same voxels, so it falls
 // short of the noise, the more so the noisier the image. Where what the
@@ -1325,15 +1348,7 @@ void Deformer::finish(int cycle, DeformResult& result) {
 // to 24 % closer to the truth (ellipsoid on 1 x 1 x 2 mm voxels at 10 %:
 // 0.0745 -> 0.0564 voxel), none farther; clean phantoms and the real scans
 // of ../shared/data keep their models.
-void Deformer::use_image_noise(FitOptions& fit) const {
-  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-  for (auto v : mesh_.vertices()) {
-    lo = lo.cwiseMin(to_eigen(mesh_.point(v)));
-    hi = hi.cwiseMax(to_eigen(mesh_.point(v)));
-  }
-  const Vec3 margin = Vec3::Constant(2.0 * voxel_);
-  const double edge = estimate_edge_noise(mesh_, volume_, estimate_voxel_noise(volume_, lo - margin, hi + margin), threads_);
-  if (!(edge > fit.noise)) return;
+void Deformer::use_image_noise(FitOptions& fit, double edge) const {
   fit.noise = edge;
   fit.regularization = std::min(5.0, 2.0 * fit.regularization);
   fit.quadric_step = 0.5;

@@ -132,6 +132,9 @@ operator<<(std::ostream & os, const GeometricallyDeformedModelEnums::Polarity va
  *   FitSmoothing [0.5, in [0, 5], 0 = off] draws a vertex toward the quadric
  *   over its 2-ring where it stands within that many image-noise levels of
  *   it (smooths noise, keeps edges and corners).
+ * - CurvatureCorrection [off]: the fit's crossings corrected for the trilinear
+ *   interpolation's bias on curved surfaces, with the model's curvature where
+ *   its 3-ring is a quadric; quiet images only.
  * - SharpEdges [on]: after the fit, vertices onto the object's sharp edges and
  *   corners (where the faces around a vertex lie in two or three flat planes
  *   the data bends between within 1.5 voxels; edges crossing such a line are
@@ -421,6 +424,9 @@ public:
   itkBooleanMacro(SubvoxelFit);
 
   /** Vertices onto the object's sharp edges and corners after the fit. */
+  itkSetMacro(CurvatureCorrection, bool);
+  itkGetConstMacro(CurvatureCorrection, bool);
+  itkBooleanMacro(CurvatureCorrection);
   itkSetMacro(SharpEdges, bool);
   itkGetConstMacro(SharpEdges, bool);
   itkBooleanMacro(SharpEdges);
@@ -654,6 +660,7 @@ private:
   bool          m_VoxelSeed;
   bool          m_FillCavities;
   bool          m_SubvoxelFit;
+  bool          m_CurvatureCorrection;
   bool          m_SharpEdges;
   unsigned int  m_NumberOfFitPasses;
   double        m_FitMaximumDistance;

@@ -67,6 +67,7 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::SetDeform
   m_VoxelSeed = o.voxel_seed;
   m_FillCavities = o.fill_cavities;
   m_SubvoxelFit = o.subvoxel_fit;
+  m_CurvatureCorrection = o.curvature_correction;
   m_SharpEdges = o.sharp_edges;
   m_NumberOfFitPasses = static_cast<unsigned int>(o.fit_passes);
   m_FitMaximumDistance = o.fit_max_distance;
@@ -160,6 +161,7 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::GetDeform
   o.voxel_seed = m_VoxelSeed;
   o.fill_cavities = m_FillCavities;
   o.subvoxel_fit = m_SubvoxelFit;
+  o.curvature_correction = m_CurvatureCorrection;
   o.sharp_edges = m_SharpEdges;
   o.fit_passes = static_cast<int>(std::min<unsigned int>(m_NumberOfFitPasses, 1000000u));
   o.fit_max_distance = m_FitMaximumDistance;
@@ -382,6 +384,7 @@ GeometricallyDeformedModelImageToMeshFilter<TInputImage, TOutputMesh>::PrintSelf
   os << indent << "VoxelSeed: " << (m_VoxelSeed ? "On" : "Off") << std::endl;
   os << indent << "FillCavities: " << m_FillCavities << std::endl;
   os << indent << "SubvoxelFit: " << (m_SubvoxelFit ? "On" : "Off") << std::endl;
+  os << indent << "CurvatureCorrection: " << (m_CurvatureCorrection ? "On" : "Off") << std::endl;
   os << indent << "SharpEdges: " << (m_SharpEdges ? "On" : "Off") << std::endl;
   os << indent << "NumberOfFitPasses: " << m_NumberOfFitPasses << std::endl;
   os << indent << "FitMaximumDistance: " << m_FitMaximumDistance << std::endl;

@@ -65,6 +65,7 @@ ExerciseBasicsAndSetGet()
   ITK_TEST_SET_GET_VALUE(d.refine_channels, filter->GetRefineChannels());
   ITK_TEST_SET_GET_VALUE(d.subvoxel_fit, filter->GetSubvoxelFit());
   ITK_TEST_SET_GET_VALUE(d.sharp_edges, filter->GetSharpEdges());
+  ITK_TEST_SET_GET_VALUE(d.curvature_correction, filter->GetCurvatureCorrection());
   ITK_TEST_SET_GET_VALUE(static_cast<unsigned int>(d.fit_passes), filter->GetNumberOfFitPasses());
   ITK_TEST_SET_GET_VALUE(d.fit_max_distance, filter->GetFitMaximumDistance());
   ITK_TEST_SET_GET_VALUE(d.fit_smoothing, filter->GetFitSmoothing());
@@ -135,6 +136,10 @@ ExerciseBasicsAndSetGet()
   ITK_TEST_SET_GET_VALUE(5000u, (filter->SetMaximumNumberOfFaces(5000), filter->GetMaximumNumberOfFaces()));
   ITK_TEST_SET_GET_BOOLEAN(filter, SubvoxelFit, true);
   filter->SubvoxelFitOff();
+  ITK_TEST_SET_GET_BOOLEAN(filter, CurvatureCorrection, true);
+  filter->CurvatureCorrectionOn();
+  ITK_TEST_SET_GET_VALUE(true, filter->GetDeformOptions().curvature_correction);
+  filter->CurvatureCorrectionOff();
   ITK_TEST_SET_GET_BOOLEAN(filter, SharpEdges, true);
   filter->SharpEdgesOff();
   ITK_TEST_SET_GET_VALUE(false, filter->GetDeformOptions().sharp_edges);
@@ -213,7 +218,7 @@ ExerciseBasicsAndSetGet()
          "IntensityScale", "Reach", "NormalRings", "LocalFlip", "MinimumStep", "MaximumStep", "MaximumStepReductions",
          "GradientStep", "LevelOfDetailFaceArea", "LevelOfDetailTopologyExtent", "NumberOfGlobalRefinements",
          "MaximumNumberOfCycles", "ConvergenceTolerance", "ConvergenceWindow", "PreventSelfIntersection",
-         "ImproveTriangles", "FlipMaximumDihedralAngle", "MaximumNumberOfFaces", "SubvoxelFit", "SharpEdges", "NumberOfFitPasses",
+         "ImproveTriangles", "FlipMaximumDihedralAngle", "MaximumNumberOfFaces", "SubvoxelFit", "CurvatureCorrection", "SharpEdges", "NumberOfFitPasses",
          "FitMaximumDistance", "FitSmoothing", "LevelOfDetailTolerance", "LevelOfDetailMinimumAngle", "LevelOfDetailRounds", "MinimumAngle", "FaceBudget",
          "MaximumTopologyRatio", "RefinementTravel", "GapSize", "RefineChannels", "NumberOfCoarseLevels", "NumberOfGapClosedVoxels", "FillCavities", "NumberOfFilledCavities", "FilledCavityVolume", "NumberOfCavitiesBehindNarrowOpenings", "NumberOfCappedHandles", "FloatExactOutput", "SeedCenter", "SeedRadius",
          "SeedSubdivisionLevel", "StopReason", "NumberOfCycles", "NumberOfGlobalRefinementsPerformed",

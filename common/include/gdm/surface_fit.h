@@ -45,6 +45,11 @@ struct FitOptions {
                                 // offsets of neighbours averaged in a ring shrink a lone vertex's step,
                                 // so at 1 the passes creep toward the fixed point and moves under
                                 // `still` stop them short of it (README, stop 57)
+  bool curvature_correction = false;  // each crossing corrected for the trilinear field's bias on a curved
+                                // surface (a convex part's crossing lies up to x(1-x)/2 times the
+                                // curvature inside), with the curvature of the model where its 3-ring
+                                // is a quadric within kQuadricResidual voxels; for quiet images only
+                                // (README, stop 58)
   std::vector<double> vertex_max_distance;  // mm, by vertex index: where given (and > 0) it replaces
                                             // max_distance for that vertex; empty: max_distance for all
   bool prevent_self_intersection = true;  // every move checked by the IntersectionGuard
