@@ -219,40 +219,65 @@ Vec3 smoothed_normal(const Mesh& mesh, Mesh::VertexHandle v, int rings, const st
   return len > 0.0 ? Vec3(n / len) : Vec3::Zero();
 }
 
+// The quadratic height field h(x, y) = c0 + c1 x + c2 y + c3 x^2 + c4 x y +
+// c5 y^2 fitted by least squares to the vertices within `rings` rings of v
+// (v left out; they stay in scratch().vertices) in the tangent frame (t1, t2)
+// of n, in coordinates scaled by the ring's extent (keeps the normal
+// equations well conditioned whatever the units). False when the ring is too
+// small or the fit fails.
+struct RingQuadric {
+  Eigen::Matrix<double, 6, 1> c;
+  double extent = 0.0;
+  Vec3 t1, t2;
+  // The row of the normal equations for ring vertex w, and its height.
+  Eigen::Matrix<double, 6, 1> row(const Mesh& mesh, const Vec3& p, const Vec3& n, int w, double& height) const {
+    const Vec3 q = (pos(mesh, Mesh::VertexHandle(w)) - p) / extent;
+    const double x = q.dot(t1), y = q.dot(t2);
+    height = q.dot(n);
+    Eigen::Matrix<double, 6, 1> r;
+    r << 1.0, x, y, x * x, x * y, y * y;
+    return r;
+  }
+};
+bool fit_ring_quadric(const Mesh& mesh, Mesh::VertexHandle v, const Vec3& n, int rings, RingQuadric& quadric) {
+  std::vector<int>& ring = scratch().vertices;
+  vertices_within(mesh, v, rings, ring);
+  ring.erase(std::find(ring.begin(), ring.end(), v.idx()));
+  if (ring.size() < 9) return false;
+  const Vec3 p = pos(mesh, v);
+  quadric.t1 = n.unitOrthogonal();
+  quadric.t2 = n.cross(quadric.t1);
+  quadric.extent = 0.0;
+  for (int w : ring) quadric.extent = std::max(quadric.extent, (pos(mesh, Mesh::VertexHandle(w)) - p).norm());
+  if (quadric.extent <= 0.0) return false;
+  Eigen::Matrix<double, 6, 6> ata = Eigen::Matrix<double, 6, 6>::Zero();
+  Eigen::Matrix<double, 6, 1> ath = Eigen::Matrix<double, 6, 1>::Zero();
+  for (int w : ring) {
+    double height = 0.0;
+    const Eigen::Matrix<double, 6, 1> row = quadric.row(mesh, p, n, w, height);
+    // The lower triangle of row row^T added by hand: the same sums as
+    // selfadjointView().rankUpdate(row), without its general product
+    // kernel's overhead for a 6 x 6 matrix (a third of this function).
+    for (int r = 0; r < 6; ++r)
+      for (int c = 0; c <= r; ++c) ata(r, c) += row[r] * row[c];
+    ath += row * height;
+  }
+  const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> ldlt(ata.selfadjointView<Eigen::Lower>());
+  if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) return false;
+  quadric.c = ldlt.solve(ath);
+  return true;
+}
+
 // The height (mm, along n) of v above the quadratic height field fitted by
 // least squares to its 2-ring in the tangent frame of n: zero wherever the
 // surface is locally a quadric (a sphere, a cylinder, an ellipsoid to second
 // order), so drawing a vertex toward it smooths noise without the shrinkage
 // of Laplacian smoothing. NaN when the ring is too small to fit.
 double height_above_quadric(const Mesh& mesh, Mesh::VertexHandle v, const Vec3& n) {
-  std::vector<int>& ring = scratch().vertices;
-  vertices_within(mesh, v, 2, ring);
-  ring.erase(std::find(ring.begin(), ring.end(), v.idx()));
-  if (ring.size() < 9) return std::numeric_limits<double>::quiet_NaN();
-  const Vec3 p = pos(mesh, v), t1 = n.unitOrthogonal(), t2 = n.cross(t1);
-  // Normal equations in coordinates scaled by the ring's extent (keeps them
-  // well conditioned whatever the units).
-  double extent = 0.0;
-  for (int w : ring) extent = std::max(extent, (pos(mesh, Mesh::VertexHandle(w)) - p).norm());
-  if (extent <= 0.0) return std::numeric_limits<double>::quiet_NaN();
-  Eigen::Matrix<double, 6, 6> ata = Eigen::Matrix<double, 6, 6>::Zero();
-  Eigen::Matrix<double, 6, 1> ath = Eigen::Matrix<double, 6, 1>::Zero();
-  for (int w : ring) {
-    const Vec3 q = (pos(mesh, Mesh::VertexHandle(w)) - p) / extent;
-    const double x = q.dot(t1), y = q.dot(t2);
-    Eigen::Matrix<double, 6, 1> row;
-    row << 1.0, x, y, x * x, x * y, y * y;
-    // The lower triangle of row row^T added by hand: the same sums as
-    // selfadjointView().rankUpdate(row), without its general product
-    // kernel's overhead for a 6 x 6 matrix (a third of this function).
-    for (int r = 0; r < 6; ++r)
-      for (int c = 0; c <= r; ++c) ata(r, c) += row[r] * row[c];
-    ath += row * q.dot(n);
-  }
-  const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> ldlt(ata.selfadjointView<Eigen::Lower>());
-  if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) return std::numeric_limits<double>::quiet_NaN();
-  const double c0 = ldlt.solve(ath)[0];
-  return std::isfinite(c0) ? -c0 * extent : std::numeric_limits<double>::quiet_NaN();
+  RingQuadric quadric;
+  if (!fit_ring_quadric(mesh, v, n, 2, quadric)) return std::numeric_limits<double>::quiet_NaN();
+  const double c0 = quadric.c[0];
+  return std::isfinite(c0) ? -c0 * quadric.extent : std::numeric_limits<double>::quiet_NaN();
 }
 
 // Beyond the paper (issue 16): the crossing of the trilinear field is not the
@@ -286,46 +311,23 @@ constexpr double kQuadricResidual = 0.04;  // voxels, RMS
 // tangent frame of n. False when the ring is too small or the quadric does
 // not fit it within kQuadricResidual.
 bool curvature_terms(const Mesh& mesh, Mesh::VertexHandle v, const Vec3& n, const Volume& volume, Vec3& q) {
-  std::vector<int>& ring = scratch().vertices;
-  vertices_within(mesh, v, kCurvatureRings, ring);
-  ring.erase(std::find(ring.begin(), ring.end(), v.idx()));
-  if (ring.size() < 9) return false;
-  const Vec3 p = pos(mesh, v), t1 = n.unitOrthogonal(), t2 = n.cross(t1);
-  double extent = 0.0;
-  for (int w : ring) extent = std::max(extent, (pos(mesh, Mesh::VertexHandle(w)) - p).norm());
-  if (!(extent > 0.0)) return false;
-  // Coordinates scaled by the ring's extent, as in height_above_quadric.
-  const auto row_of = [&](int w, double& height) {
-    const Vec3 r = (pos(mesh, Mesh::VertexHandle(w)) - p) / extent;
-    const double x = r.dot(t1), y = r.dot(t2);
-    height = r.dot(n);
-    Eigen::Matrix<double, 6, 1> row;
-    row << 1.0, x, y, x * x, x * y, y * y;
-    return row;
-  };
-  Eigen::Matrix<double, 6, 6> ata = Eigen::Matrix<double, 6, 6>::Zero();
-  Eigen::Matrix<double, 6, 1> ath = Eigen::Matrix<double, 6, 1>::Zero();
-  for (int w : ring) {
-    double height = 0.0;
-    const Eigen::Matrix<double, 6, 1> row = row_of(w, height);
-    for (int r = 0; r < 6; ++r)
-      for (int c = 0; c <= r; ++c) ata(r, c) += row[r] * row[c];
-    ath += row * height;
-  }
-  const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> ldlt(ata.selfadjointView<Eigen::Lower>());
-  if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) return false;
-  const Eigen::Matrix<double, 6, 1> c = ldlt.solve(ath);
-  if (!c.allFinite()) return false;
+  RingQuadric quadric;
+  if (!fit_ring_quadric(mesh, v, n, kCurvatureRings, quadric) || !quadric.c.allFinite()) return false;
+  const Eigen::Matrix<double, 6, 1>& c = quadric.c;
+  const std::vector<int>& ring = scratch().vertices;
+  const Vec3 p = pos(mesh, v);
   double residual = 0.0;
   for (int w : ring) {
     double height = 0.0;
-    const double e = row_of(w, height).dot(c) - height;
+    const double e = quadric.row(mesh, p, n, w, height).dot(c) - height;
     residual += e * e;
   }
+  const double extent = quadric.extent;
   if (std::sqrt(residual / static_cast<double>(ring.size())) * extent > kQuadricResidual * volume.voxel_size()) return false;
   // Height h(x, y) = extent (c3 (x/e)^2 + c4 (x/e)(y/e) + c5 (y/e)^2) + ...: its
   // Hessian [[2 c3, c4], [c4, 2 c5]] / extent; K = -Hess(h) (n outward).
   const double hxx = 2.0 * c[3] / extent, hxy = c[4] / extent, hyy = 2.0 * c[5] / extent;
+  const Vec3 &t1 = quadric.t1, &t2 = quadric.t2;
   const Eigen::Matrix3d k =
       -(hxx * t1 * t1.transpose() + hxy * (t1 * t2.transpose() + t2 * t1.transpose()) + hyy * t2 * t2.transpose());
   for (int a = 0; a < 3; ++a) {
