@@ -1273,8 +1273,9 @@ void Deformer::finish(int cycle, DeformResult& result) {
   // A quiet image (its voxels' noise explains no more than the crossings'):
   // with curvature_correction the crossings are corrected for the trilinear
   // field's bias on curved parts (FitOptions::curvature_correction); on a
-  // noisy one the correction was no gain (README, stop 58).
-  const double image_noise = image_edge_noise();
+  // noisy one the correction was no gain (README, stop 58). The image's
+  // noise is estimated only where something reads it.
+  const double image_noise = !lod || o_.curvature_correction ? image_edge_noise() : 0.0;
   const bool quiet = !(image_noise > fit.noise);
   fit.curvature_correction = o_.curvature_correction && quiet;
   const FitOptions crossing_fit = fit;

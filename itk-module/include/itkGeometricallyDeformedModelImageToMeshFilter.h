@@ -423,10 +423,12 @@ public:
   itkGetConstMacro(SubvoxelFit, bool);
   itkBooleanMacro(SubvoxelFit);
 
-  /** Vertices onto the object's sharp edges and corners after the fit. */
+  /** The fit's crossings corrected for the trilinear field's bias on curved surfaces (quiet images). */
   itkSetMacro(CurvatureCorrection, bool);
   itkGetConstMacro(CurvatureCorrection, bool);
   itkBooleanMacro(CurvatureCorrection);
+
+  /** Vertices onto the object's sharp edges and corners after the fit. */
   itkSetMacro(SharpEdges, bool);
   itkGetConstMacro(SharpEdges, bool);
   itkBooleanMacro(SharpEdges);
