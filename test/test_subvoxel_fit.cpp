@@ -312,7 +312,7 @@ TEST(SubvoxelFit, curvature_correction_fits_clean_curved_surfaces_closer) {
   }
 }
 
-// DeformOptions::curvature_correction (off by default) reaches the fit on a
+// DeformOptions::curvature_correction (on by default) reaches the fit on a
 // quiet image and not on a noisy one: the clean sphere comes closer, the
 // sphere with Gaussian noise of 6 % of the contrast keeps its model.
 TEST(SubvoxelFit, curvature_correction_option_acts_on_quiet_images_only) {

@@ -132,7 +132,7 @@ operator<<(std::ostream & os, const GeometricallyDeformedModelEnums::Polarity va
  *   FitSmoothing [0.5, in [0, 5], 0 = off] draws a vertex toward the quadric
  *   over its 2-ring where it stands within that many image-noise levels of
  *   it (smooths noise, keeps edges and corners).
- * - CurvatureCorrection [off]: the fit's crossings corrected for the trilinear
+ * - CurvatureCorrection [on]: the fit's crossings corrected for the trilinear
  *   interpolation's bias on curved surfaces, with the model's curvature where
  *   its 3-ring is a quadric; quiet images only.
  * - SharpEdges [on]: after the fit, vertices onto the object's sharp edges and

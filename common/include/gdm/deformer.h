@@ -104,9 +104,9 @@ struct DeformOptions {
   double fit_smoothing = 0.5;        // noise-adaptive smoothing of the fit, in [0, 5] (0 = off): a vertex
                                      // within this many noise levels of the quadric over its 2-ring is
                                      // drawn toward it (FitOptions::regularization)
-  bool curvature_correction = false; // the fit's crossings corrected for the trilinear field's bias on
+  bool curvature_correction = true;  // the fit's crossings corrected for the trilinear field's bias on
                                      // curved parts, on quiet images where the model's 3-ring is a
-                                     // quadric (FitOptions::curvature_correction; README, stop 58)
+                                     // quadric (FitOptions::curvature_correction; README, stops 58, 59)
   bool sharp_edges = true;           // after the fit, vertices onto the object's sharp edges and corners
                                      // where the faces around them lie in two or three planes that meet
                                      // within 1.5 voxels of the data (creases.h): splits add vertices

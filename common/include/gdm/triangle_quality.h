@@ -78,7 +78,10 @@ double triangle_min_angle(const Vec3& a, const Vec3& b, const Vec3& c);
 // options.unfold, edges folded beyond kFoldDegrees (mesh_checks.h) are then
 // flipped, else collapsed, where that leaves fewer folded edges around and
 // none sharper, under the same rules but the orientation and 45-degree
-// normal tests, within 5 times max_error (unfold_phase). Leaves the
+// normal tests, within 5 times max_error (unfold_phase). Last, the corners
+// of faces still below the bound move as the relaxation moves them, by steps
+// of a hundredth to a twentieth of the shortest edge (nudge_phase: where the
+// guard refuses longer steps, as at a crumpled apex). Leaves the
 // mesh garbage-collected (no deleted elements; the status attributes stay
 // requested). Best effort: faces_below says how many faces remain below.
 QualityResult improve_triangle_quality(Mesh& mesh, const QualityOptions& options);
