@@ -202,6 +202,7 @@ class QualityPass {
   // guard allow.
   bool move_to_best(Mesh::VertexHandle v, std::vector<Candidate>& candidates);
   std::size_t slide_phase();
+  std::size_t corner_rounds(const std::function<bool(Mesh::VertexHandle)>& move);
   bool try_slide(Mesh::VertexHandle v);
   bool collapse_between_ends(Mesh::HalfedgeHandle h, const CollapseOptions& co);
   // The faces around h's from-vertex but h's two, with that vertex at h's
@@ -1179,20 +1180,26 @@ bool QualityPass::try_slide(Mesh::VertexHandle v) {
   return move_to_best(v, candidates);
 }
 
-// Rounds of slides of the corners of the faces below the bound (worst face
-// first, its corners in order), while they make any.
-std::size_t QualityPass::slide_phase() {
-  std::size_t slides = 0;
+// Rounds over the corners of the faces below the bound (worst face first,
+// its corners in order), each offered to `move`, while it makes any.
+// Returns the moves made.
+std::size_t QualityPass::corner_rounds(const std::function<bool(Mesh::VertexHandle)>& move) {
+  std::size_t moves = 0;
   for (int round = 0; round < o_.rounds; ++round) {
     std::size_t made = 0;
     for (auto f : bad()) {
       if ((mesh_.has_face_status() && mesh_.status(f).deleted()) || face_min_angle(mesh_, f) >= bound_) continue;
-      for (auto v : corners(mesh_, f)) made += try_slide(v) ? 1 : 0;
+      for (auto v : corners(mesh_, f)) made += move(v) ? 1 : 0;
     }
-    slides += made;
+    moves += made;
     if (made == 0) break;
   }
-  return slides;
+  return moves;
+}
+
+// Rounds of slides of the corners of the faces below the bound.
+std::size_t QualityPass::slide_phase() {
+  return corner_rounds([&](Mesh::VertexHandle v) { return try_slide(v); });
 }
 
 // The very last resort, after the tiers and the folds, for the faces still
@@ -1205,17 +1212,7 @@ std::size_t QualityPass::slide_phase() {
 // with faces folded onto each other; a step of 0.01 of its shortest edge
 // lifts it). Only meshes that would keep a face below the bound change.
 std::size_t QualityPass::nudge_phase() {
-  std::size_t moves = 0;
-  for (int round = 0; round < o_.rounds; ++round) {
-    std::size_t made = 0;
-    for (auto f : bad()) {
-      if ((mesh_.has_face_status() && mesh_.status(f).deleted()) || face_min_angle(mesh_, f) >= bound_) continue;
-      for (auto v : corners(mesh_, f)) made += try_relax(v, true) ? 1 : 0;
-    }
-    moves += made;
-    if (made == 0) break;
-  }
-  return moves;
+  return corner_rounds([&](Mesh::VertexHandle v) { return try_relax(v, true); });
 }
 
 // Tiers of the error bound over the watched faces: rounds of flips, splits,
