@@ -859,30 +859,43 @@ TEST(RealData, CtVerticesDoNotPileUp) {
   EXPECT_GT(m.min_angle_deg, 0.5);
 }
 
-// The CT head phantom at the defaults: no angle below the default bound of
-// 10 degrees. One needle (9.5 degrees) was left on the crest of a thin fin,
-// where the faces' normals cancel and the relaxation finds no tangent plane,
-// until the quality pass slid the corners of the faces it left along their
-// edges (issue 16). The whole model at the defaults takes about a minute
-// (Release, 2 cores): skipped in the sanitizer build.
+// A real scan at the defaults: no angle below the default bound of 10
+// degrees, and a valid model; `file` skips the test when absent.
+void expect_no_angle_below_the_bound_at_the_defaults(const fs::path& file) {
+  if (!fs::exists(file)) GTEST_SKIP() << "the scan " << file << " is absent";
+  const fs::path dir = work_dir();
+  const GdmRun r = run_gdm(dir, {file.string(), "-o", "model.ply", "--report", "model.json"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string json = slurp(dir / "model.json");
+  EXPECT_EQ(json_value(json, "faces_below_min_angle"), 0.0);
+  EXPECT_GT(json_value(json, "quality_moves"), 0.0);
+  const gdm::MeshReport m = measure(read_mesh(dir / "model.ply"));
+  expect_valid_model(m);
+  EXPECT_GE(m.min_angle_deg, 10.0);
+}
+
+// The CT head phantom at the defaults. One needle (9.5 degrees) was left on
+// the crest of a thin fin, where the faces' normals cancel and the
+// relaxation finds no tangent plane, until the quality pass slid the corners
+// of the faces it left along their edges; with the curvature correction one
+// (9.97 degrees) at a crumpled apex, until the pass's last nudge (issue 16).
+// The whole model at the defaults takes about a minute (Release, 2 cores):
+// skipped in the sanitizer build.
 TEST(RealData, CtHeadAtTheDefaultsHasNoAngleBelowTheBound) {
 #if defined(__SANITIZE_ADDRESS__)
   GTEST_SKIP() << "AddressSanitizer build: the CT head at the defaults is left to the Release run";
 #endif
-  const fs::path series = kShared + "/data/ct-phantom-dicom/series";
-  if (!fs::exists(series)) GTEST_SKIP() << "the DICOM series " << series << " is absent";
-  const fs::path dir = work_dir();
-  const GdmRun r = run_gdm(dir, {series.string(), "-o", "ct.ply", "--report", "ct.json"});
-  ASSERT_EQ(r.code, 0) << r.err;
-  const std::string json = slurp(dir / "ct.json");
-  EXPECT_EQ(json_value(json, "faces_below_min_angle"), 0.0);
-  EXPECT_GT(json_value(json, "quality_moves"), 0.0);
-  const gdm::MeshReport m = measure(read_mesh(dir / "ct.ply"));
-  EXPECT_TRUE(m.closed);
-  EXPECT_TRUE(m.two_manifold);
-  EXPECT_EQ(m.genus, 0);
-  EXPECT_EQ(m.self_intersections, 0u);
-  EXPECT_GE(m.min_angle_deg, 10.0);
+  expect_no_angle_below_the_bound_at_the_defaults(kShared + "/data/ct-phantom-dicom/series");
+}
+
+// The T1 MRI head at the defaults: two faces were left below 10 degrees
+// (9.80 the smallest) until the quality pass's last nudge (issue 16, stop
+// 59). About 35 s (Release, 2 cores): skipped in the sanitizer build.
+TEST(RealData, T1HeadAtTheDefaultsHasNoAngleBelowTheBound) {
+#if defined(__SANITIZE_ADDRESS__)
+  GTEST_SKIP() << "AddressSanitizer build: the T1 head at the defaults is left to the Release run";
+#endif
+  expect_no_angle_below_the_bound_at_the_defaults(kShared + "/data/mri-head-t1/chris_t1.nii.gz");
 }
 
 // Two scans whose object the scan cuts (the EPI head at its top and bottom
