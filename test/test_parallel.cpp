@@ -1,6 +1,8 @@
 // The parallel loops on the process's worker pool (parallel.h): every index
 // once, the same results for any thread count, loops inside loops, loops from
-// several threads at once, and a task's exception carried to the caller.
+// several threads at once, and a task's exception carried to the caller; and
+// the moves by cubes of space (space_blocks.h): each colour's cubes on the
+// workers, each cube's items in order on one of them.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -10,6 +12,7 @@
 #include <vector>
 
 #include "gdm/parallel.h"
+#include "gdm/space_blocks.h"
 
 namespace {
 
@@ -100,4 +103,79 @@ TEST(Parallel, a_task_exception_reaches_the_caller_after_the_other_tasks_ran) {
   EXPECT_EQ(visits.back().load(), 1);
   // The pool serves the next loop as before.
   EXPECT_EQ(computed(2000, 2), computed(2000, 1));
+}
+
+TEST(SpaceBlocks, a_colour_runs_every_item_once_each_cube_in_order_on_one_worker) {
+  // Points in a 40 x 40 x 40 box, denser in one corner (cubes of unequal
+  // work, as the moves' are), grouped by cubes 4 wide.
+  std::vector<int> items;
+  std::vector<gdm::Vec3> at;
+  unsigned state = 12345u;
+  const auto next = [&state] {
+    state = state * 1664525u + 1013904223u;
+    return static_cast<double>(state >> 8) / static_cast<double>(1u << 24);
+  };
+  for (int i = 0; i < 6000; ++i) {
+    items.push_back(3 * i + 1);  // ascending, not the positions' indices
+    const double squeeze = i % 3 == 0 ? 0.25 : 1.0;
+    at.emplace_back(40.0 * squeeze * next(), 40.0 * squeeze * next(), 40.0 * squeeze * next());
+  }
+  const double width = 4.0;
+  const gdm::CubeColouring cubes = gdm::colour_by_cubes(items, at, width);
+  std::vector<int> position(static_cast<std::size_t>(items.back()) + 1, -1);
+  for (std::size_t k = 0; k < items.size(); ++k) position[static_cast<std::size_t>(items[k])] = static_cast<int>(k);
+  std::size_t listed = 0;
+  for (std::size_t c = 0; c < 8; ++c) listed += cubes.items[c].size();
+  ASSERT_EQ(listed, items.size());
+  for (std::size_t workers : {1u, 2u, 3u, 4u}) {
+    for (std::size_t c = 0; c < 8; ++c) {
+      const std::vector<int>& list = cubes.items[c];
+      const std::vector<std::size_t>& starts = cubes.cube_starts[c];
+      ASSERT_EQ(starts.back(), list.size());
+      // Per item: how often it ran, on which worker, and its place in that
+      // worker's sequence.
+      std::vector<std::atomic<int>> runs(list.size());
+      std::vector<int> worker_of(list.size(), -1), step_of(list.size(), -1);
+      std::vector<int> steps(workers, 0);
+      std::vector<std::atomic<int>> running(workers);
+      std::atomic<bool> shared_worker{false}, bad_worker{false};
+      std::vector<std::size_t> index_of(static_cast<std::size_t>(items.back()) + 1, 0);
+      for (std::size_t j = 0; j < list.size(); ++j) index_of[static_cast<std::size_t>(list[j])] = j;
+      gdm::run_colour(list, starts, workers, [&](int item, std::size_t w) {
+        if (w >= workers) {
+          bad_worker = true;
+          return;
+        }
+        if (running[w].fetch_add(1) != 0) shared_worker = true;  // two runs with one number at once
+        const std::size_t j = index_of[static_cast<std::size_t>(item)];
+        runs[j].fetch_add(1);
+        worker_of[j] = static_cast<int>(w);
+        step_of[j] = steps[w]++;
+        // Uneven work: the squeezed corner's items cost more.
+        volatile double s = 0.0;
+        for (int k = 0; k < (position[static_cast<std::size_t>(item)] % 3 == 0 ? 400 : 20); ++k) s = s + std::sqrt(k + 1.0);
+        running[w].fetch_sub(1);
+      });
+      ASSERT_FALSE(bad_worker) << "colour " << c << " workers " << workers;
+      EXPECT_FALSE(shared_worker) << "colour " << c << " workers " << workers;
+      for (std::size_t j = 0; j < list.size(); ++j) ASSERT_EQ(runs[j].load(), 1) << "colour " << c << " item " << j;
+      // Within a cube: one worker, the items in their order, one after the other.
+      for (std::size_t cube = 0; cube + 1 < starts.size(); ++cube)
+        for (std::size_t j = starts[cube] + 1; j < starts[cube + 1]; ++j) {
+          ASSERT_EQ(worker_of[j], worker_of[starts[cube]]) << "colour " << c << " cube " << cube;
+          ASSERT_EQ(step_of[j], step_of[j - 1] + 1) << "colour " << c << " cube " << cube;
+          ASSERT_LT(list[j - 1], list[j]) << "colour " << c << " cube " << cube;
+        }
+      // Two cubes of one colour lie at least a cube apart.
+      for (std::size_t a = 0; a + 1 < starts.size(); ++a)
+        for (std::size_t b = a + 1; b + 1 < starts.size(); ++b) {
+          const gdm::Vec3& p = at[static_cast<std::size_t>(position[static_cast<std::size_t>(list[starts[a]])])];
+          const gdm::Vec3& q = at[static_cast<std::size_t>(position[static_cast<std::size_t>(list[starts[b]])])];
+          bool apart = false;
+          for (int k = 0; k < 3; ++k)
+            apart = apart || std::abs(std::floor(p[k] / width) - std::floor(q[k] / width)) >= 2.0;
+          ASSERT_TRUE(apart) << "colour " << c << " cubes " << a << " and " << b;
+        }
+    }
+  }
 }
