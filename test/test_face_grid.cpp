@@ -223,6 +223,59 @@ TEST(FaceGrid, refresh_after_moves_and_splits_finds_every_face_a_rebuild_would) 
   }
 }
 
+TEST(FaceGrid, faces_moved_across_cells_are_found_where_they_went_and_only_once) {
+  // A face registered again keeps its entries in the cells its new box still
+  // touches and moves the rest (FaceGrid::reregister): moves of up to three
+  // cells, some back to where they were, in every direction.
+  Mesh mesh = make_geodesic_sphere(Vec3(-2, 0.5, 4), 6.0, 2);
+  const double margin = 0.1, cell = 1.0;
+  FaceGrid grid;
+  grid.rebuild(mesh, cell, margin);
+  std::mt19937 rng(29);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0), where(-9.0, 9.0), size(0.0, 3.0);
+  std::uniform_int_distribution<int> coin(0, 19);
+  std::vector<std::pair<Mesh::VertexHandle, Mesh::Point>> moved_back;
+  for (int round = 0; round < 8; ++round) {
+    for (const auto& [v, p] : moved_back) mesh.set_point(v, p);  // back to the cells they left
+    moved_back.clear();
+    for (auto v : mesh.vertices())
+      if (coin(rng) == 0) {  // a twentieth: under half the faces change
+        moved_back.emplace_back(v, mesh.point(v));
+        const Vec3 d(unit(rng), unit(rng), unit(rng));
+        mesh.set_point(v, mesh.point(v) + to_point(3.0 * cell * d));
+      }
+    ASSERT_TRUE(grid.refresh(mesh, margin)) << "round " << round;
+    for (int i = 0; i < 300; ++i) {
+      Box q;
+      q.lo = Vec3(where(rng) - 2.0, where(rng) + 0.5, where(rng) + 4.0);
+      q.hi = q.lo + Vec3(size(rng), size(rng), size(rng));
+      const std::vector<int> expected = faces_meeting(mesh, margin, q);
+      std::vector<int> visited;
+      grid.for_each_near(q.lo, q.hi, [&](int f) { visited.push_back(f); });
+      std::sort(visited.begin(), visited.end());
+      ASSERT_EQ(std::unique(visited.begin(), visited.end()), visited.end()) << "round " << round << " query " << i;
+      ASSERT_TRUE(std::includes(visited.begin(), visited.end(), expected.begin(), expected.end()))
+          << "round " << round << " query " << i;
+      // A query inside one cell: any_near offers that cell's entries as they
+      // are listed, so a face listed twice there (or left behind and added
+      // again) would be offered twice.
+      Box inner;
+      inner.lo = (q.lo / cell).array().floor() * cell + 0.05 * cell;
+      inner.hi = inner.lo + Vec3::Constant(0.5 * cell).cwiseMin(q.hi - q.lo);
+      const std::vector<int> in_cell = faces_meeting(mesh, margin, inner);
+      std::vector<int> offered;
+      grid.any_near(inner.lo, inner.hi, [&](int f) {
+        offered.push_back(f);
+        return false;
+      });
+      std::sort(offered.begin(), offered.end());
+      ASSERT_EQ(std::unique(offered.begin(), offered.end()), offered.end()) << "round " << round << " query " << i;
+      ASSERT_TRUE(std::includes(offered.begin(), offered.end(), in_cell.begin(), in_cell.end()))
+          << "round " << round << " query " << i;
+    }
+  }
+}
+
 TEST(FaceGrid, renumber_after_collapses_and_garbage_collection_finds_every_face_a_rebuild_would) {
   Mesh mesh = make_geodesic_sphere(Vec3(-2, 1, 4), 5.0, 3);
   mesh.request_vertex_status();

@@ -434,6 +434,7 @@ class Deformer {
   int touch_clock_ = 1;
   int normals_seen_ = 0, splits_seen_ = 0, flips_seen_ = 0;  // each pass's mark (0: everything)
   std::vector<char> face_flags_;      // scratch: faces to look at
+  std::vector<int> wake_frontier_, wake_next_;  // scratch of activate_around()
   std::vector<char> edge_dirty_;      // edges the next flip pass looks at (flip_to_improve)
   int last_split_cycle_ = 0;
   std::size_t flips_ = 0;
@@ -724,11 +725,12 @@ std::size_t Deformer::apply_moves(const std::vector<int>& candidates, const std:
       moved += wake(make_move(candidates[j], steps[j], cycle, checker));
     }
   } else {
-    // Per thread, what its moves ask to wake (make_move()), woken after
-    // the colour's moves in the order of the moves: the flags come out as
-    // in a pass in that order on one thread (nothing reads them before the
-    // next cycle).
-    std::vector<std::vector<int>> woken(checkers_.size());
+    // Per move, what it asks to wake (make_move()), woken after the
+    // colour's moves in the colour's order of the moves, whichever thread
+    // made each: the flags come out as in a pass in that order on one
+    // thread (nothing reads them before the next cycle; a wake spreads only
+    // through vertices it wakes itself, so the order decides which).
+    std::vector<int> woken(candidates.size(), kNoWake);
     // Cubes wider than a check reads: a vertex within reach of a check may
     // have moved a step into it.
     std::vector<Vec3> at;
@@ -738,13 +740,11 @@ std::size_t Deformer::apply_moves(const std::vector<int>& candidates, const std:
     const CubeColouring cubes =
         colour_by_cubes(movers, at, std::max(guard_->reach() + 2.0 * o_.optimizer.max_step * voxel_, voxel_));
     for (std::size_t c = 0; c < 8; ++c) {
-      for (auto& list : woken) list.clear();
       run_colour(cubes.items[c], cubes.cube_starts[c], checkers_.size(), [&](int k, std::size_t w) {
         const auto j = static_cast<std::size_t>(k);
-        woken[w].push_back(make_move(candidates[j], steps[j], cycle, checkers_[w]));
+        woken[j] = make_move(candidates[j], steps[j], cycle, checkers_[w]);
       });
-      for (const auto& list : woken)
-        for (int e : list) moved += wake(e);
+      for (int k : cubes.items[c]) moved += wake(woken[static_cast<std::size_t>(k)]);
     }
   }
   if (o_.prevent_self_intersection)
@@ -809,10 +809,14 @@ int Deformer::make_move(int i, const StepResult& r, int cycle, IntersectionGuard
 void Deformer::activate_around(Mesh::VertexHandle v) {
   // A vertex's cost depends on the faces within normal_rings rings (normal)
   // and on its 1-ring (eq. 3): wake every vertex that close.
-  std::vector<int> frontier{v.idx()};
+  // (Called for every move, split and flip, one thread at a time: the
+  // rings' lists are the deformer's, not allocated per call.)
+  std::vector<int>& frontier = wake_frontier_;
+  std::vector<int>& next = wake_next_;
+  frontier.assign(1, v.idx());
   active_[v.idx()] = 1;
   for (int r = 0; r < std::max(1, o_.normal_rings); ++r) {
-    std::vector<int> next;
+    next.clear();
     for (int u : frontier)
       for (auto w : mesh_.vv_range(Mesh::VertexHandle(u))) {
         if (!active_[w.idx()]) next.push_back(w.idx());

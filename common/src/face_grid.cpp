@@ -90,11 +90,48 @@ void FaceGrid::remove_from_cells(int face) {
 void FaceGrid::reregister(int face, const Vec3& lo, const Vec3& hi) {
   const Vec3 a = lo.array() - margin_, b = hi.array() + margin_;
   grow_to(static_cast<std::size_t>(face) + 1);
-  remove_from_cells(face);
+  // A face registered with one box is listed once in each cell of it (its
+  // union box is that box): it stays listed in the cells the new box also
+  // touches, leaves the others and joins the new ones. A move of a fraction
+  // of a cell mostly keeps the same cells: removing the face from every
+  // cell and adding it again was most of prepare_moves() on the T1 head
+  // (issue 17). With several boxes, or none, every cell of the union goes.
+  const bool single = reg_lo_[face].x() <= reg_hi_[face].x();
+  if (single) {
+    move_cells(face, cell_of(reg_lo_[face]), cell_of(reg_hi_[face]), cell_of(a), cell_of(b));
+  } else {
+    remove_from_cells(face);
+    add_to_cells(face, a, b);
+  }
   box_lo_[face] = reg_lo_[face] = a;
   box_hi_[face] = reg_hi_[face] = b;
   widest_box_ = std::max(widest_box_, (b - a).maxCoeff());
-  add_to_cells(face, a, b);
+}
+
+void FaceGrid::move_cells(int face, const std::array<int, 3>& from_lo, const std::array<int, 3>& from_hi,
+                          const std::array<int, 3>& to_lo, const std::array<int, 3>& to_hi) {
+  const auto inside = [](int x, int y, int z, const std::array<int, 3>& l, const std::array<int, 3>& h) {
+    return x >= l[0] && x <= h[0] && y >= l[1] && y <= h[1] && z >= l[2] && z <= h[2];
+  };
+  for (int x = from_lo[0]; x <= from_hi[0]; ++x)
+    for (int y = from_lo[1]; y <= from_hi[1]; ++y)
+      for (int z = from_lo[2]; z <= from_hi[2]; ++z) {
+        if (inside(x, y, z, to_lo, to_hi)) continue;
+        std::vector<int>* cell = cells_.find(key(x, y, z));
+        if (!cell) continue;
+        auto& list = *cell;
+        for (std::size_t i = 0; i < list.size();)
+          if (list[i] == face) {
+            list[i] = list.back();
+            list.pop_back();
+          } else {
+            ++i;
+          }
+      }
+  for (int x = to_lo[0]; x <= to_hi[0]; ++x)
+    for (int y = to_lo[1]; y <= to_hi[1]; ++y)
+      for (int z = to_lo[2]; z <= to_hi[2]; ++z)
+        if (!inside(x, y, z, from_lo, from_hi)) cells_[key(x, y, z)].push_back(face);
 }
 
 void FaceGrid::reset(double cell_size, double margin) {

@@ -397,6 +397,7 @@ FitResult fit_to_threshold(Mesh& mesh, const Volume& volume, double threshold, c
   std::vector<Vec3> goal(mesh.n_vertices(), Vec3::Zero());
   std::vector<char> moving(mesh.n_vertices(), 0);
   std::vector<IntersectionGuard::Checker> checkers;  // per thread, for moves by cubes
+  std::vector<char> face_listed;                     // per face: listed among the moves' faces (all 0 between uses)
   for (int pass = 0; pass < o.passes; ++pass) {
     face_normals.resize(mesh.n_faces());
     parallel_for(mesh.n_faces(), threads, [&](std::size_t f) {
@@ -452,20 +453,21 @@ FitResult fit_to_threshold(Mesh& mesh, const Volume& volume, double threshold, c
     });
     // 2. Offsets averaged with their 1-ring's: noise is averaged over two
     //    rings; a constant offset (the quarter-voxel shortfall) passes whole.
+    //    (Each vertex's new offset from the old ones only: on the threads.)
     smoothed = offset;
     for (int it = 0; it < kOffsetSmoothing; ++it) {
       std::vector<double> next = smoothed;
-      for (auto v : mesh.vertices()) {
-        if (!has[v.idx()]) continue;
+      parallel_for(mesh.n_vertices(), threads, [&](std::size_t i) {
+        if (!has[i]) return;  // deleted and isolated vertices have none
         double s = 0.0;
         int k = 0;
-        for (auto w : mesh.vv_range(v))
+        for (auto w : mesh.vv_range(Mesh::VertexHandle(static_cast<int>(i))))
           if (has[w.idx()]) {
             s += smoothed[w.idx()];
             ++k;
           }
-        next[v.idx()] = k ? 0.5 * (smoothed[v.idx()] + s / k) : smoothed[v.idx()];
-      }
+        next[i] = k ? 0.5 * (smoothed[i] + s / k) : smoothed[i];
+      });
       smoothed.swap(next);
     }
     //    The part h of a vertex's own offset that its ring does not share
@@ -580,12 +582,26 @@ FitResult fit_to_threshold(Mesh& mesh, const Volume& volume, double threshold, c
       //  registered with the box of every place its corners may go this
       //  pass, so no move leaves the grid behind and the checks only read
       //  it; each answer is the guard's yes or no over the same faces.
+      //  The faces around the moves, each once, ascending: by a flag per
+      //  face (sorting every move's faces with their repeats cost more), read
+      //  back by a pass over the flags when the list is long.
       std::vector<int>& faces = scratch().faces;
       faces.clear();
+      face_listed.resize(mesh.n_faces(), 0);
       for (int i : movers)
-        for (auto f : mesh.vf_range(Mesh::VertexHandle(i))) faces.push_back(f.idx());
-      std::sort(faces.begin(), faces.end());
-      faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+        for (auto f : mesh.vf_range(Mesh::VertexHandle(i)))
+          if (!face_listed[static_cast<std::size_t>(f.idx())]) {
+            face_listed[static_cast<std::size_t>(f.idx())] = 1;
+            faces.push_back(f.idx());
+          }
+      if (16 * faces.size() > face_listed.size()) {
+        faces.clear();
+        for (std::size_t f = 0; f < face_listed.size(); ++f)
+          if (face_listed[f]) faces.push_back(static_cast<int>(f));
+      } else {
+        std::sort(faces.begin(), faces.end());
+      }
+      for (int f : faces) face_listed[static_cast<std::size_t>(f)] = 0;
       for (int f : faces) {
         Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
         for (auto w : mesh.fv_range(Mesh::FaceHandle(f))) {
@@ -614,11 +630,13 @@ FitResult fit_to_threshold(Mesh& mesh, const Volume& volume, double threshold, c
     }
     for (int i : movers) moving[static_cast<std::size_t>(i)] = 0;
     if (std::find(moved.begin(), moved.end(), 1) == moved.end()) break;  // a fixed point: nothing left to do
-    for (auto v : mesh.vertices()) {
-      char a = moved[v.idx()];
+    parallel_for(mesh.n_vertices(), threads, [&](std::size_t i) {
+      const Mesh::VertexHandle v(static_cast<int>(i));
+      if (mesh.has_vertex_status() && mesh.status(v).deleted()) return;
+      char a = moved[i];
       for (auto w : mesh.vv_range(v)) a |= moved[w.idx()];
-      active[v.idx()] = a;
-    }
+      active[i] = a;
+    });
   }
   return result;
 }

@@ -50,6 +50,9 @@ CubeColouring colour_by_cubes(const std::vector<int>& items, const std::vector<V
 // independent, so which worker takes which changes nothing but the time
 // (a fixed split into one run per worker left one thread idle for a
 // seventh of the T1 head's cycles by cubes, where the moves' costs differ).
+// What the body leaves per worker must therefore not depend on the order of
+// the cubes: keep results per item (as the deformer keeps each move's wake
+// request, applied afterwards in the colour's order) or add them up.
 template <class Body>
 void run_colour(const std::vector<int>& items, const std::vector<std::size_t>& cube_starts, std::size_t workers,
                 Body&& body) {
