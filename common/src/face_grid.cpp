@@ -73,18 +73,20 @@ void FaceGrid::remove_from_cells(int face) {
   const auto a = cell_of(box_lo_[face]), b = cell_of(box_hi_[face]);
   for (int x = a[0]; x <= b[0]; ++x)
     for (int y = a[1]; y <= b[1]; ++y)
-      for (int z = a[2]; z <= b[2]; ++z) {
-        std::vector<int>* cell = cells_.find(key(x, y, z));
-        if (!cell) continue;
-        auto& list = *cell;
-        for (std::size_t i = 0; i < list.size();)
-          if (list[i] == face) {
-            list[i] = list.back();
-            list.pop_back();
-          } else {
-            ++i;
-          }
-      }
+      for (int z = a[2]; z <= b[2]; ++z) remove_from_cell(key(x, y, z), face);
+}
+
+void FaceGrid::remove_from_cell(Key cell_key, int face) {
+  std::vector<int>* cell = cells_.find(cell_key);
+  if (!cell) return;
+  auto& list = *cell;
+  for (std::size_t i = 0; i < list.size();)
+    if (list[i] == face) {
+      list[i] = list.back();
+      list.pop_back();
+    } else {
+      ++i;
+    }
 }
 
 void FaceGrid::reregister(int face, const Vec3& lo, const Vec3& hi) {
@@ -115,19 +117,8 @@ void FaceGrid::move_cells(int face, const std::array<int, 3>& from_lo, const std
   };
   for (int x = from_lo[0]; x <= from_hi[0]; ++x)
     for (int y = from_lo[1]; y <= from_hi[1]; ++y)
-      for (int z = from_lo[2]; z <= from_hi[2]; ++z) {
-        if (inside(x, y, z, to_lo, to_hi)) continue;
-        std::vector<int>* cell = cells_.find(key(x, y, z));
-        if (!cell) continue;
-        auto& list = *cell;
-        for (std::size_t i = 0; i < list.size();)
-          if (list[i] == face) {
-            list[i] = list.back();
-            list.pop_back();
-          } else {
-            ++i;
-          }
-      }
+      for (int z = from_lo[2]; z <= from_hi[2]; ++z)
+        if (!inside(x, y, z, to_lo, to_hi)) remove_from_cell(key(x, y, z), face);
   for (int x = to_lo[0]; x <= to_hi[0]; ++x)
     for (int y = to_lo[1]; y <= to_hi[1]; ++y)
       for (int z = to_lo[2]; z <= to_hi[2]; ++z)

@@ -43,22 +43,10 @@ void IntersectionGuard::prepare_moves() {
     // move with its repeats: most of this function's time on the T1 head),
     // in ascending order: by a pass over the flags when many are listed.
     face_listed_.resize(mesh_->n_faces(), 0);
-    const auto list = [&](int f) {
-      if (face_listed_[static_cast<std::size_t>(f)]) return;
-      face_listed_[static_cast<std::size_t>(f)] = 1;
-      faces.push_back(f);
-    };
     for (int v : moved_vertices_)
-      for (auto f : mesh_->vf_range(Mesh::VertexHandle(v))) list(f.idx());
-    for (int f : flipped_faces_) list(f);
-    if (16 * faces.size() > face_listed_.size()) {
-      faces.clear();
-      for (std::size_t f = 0; f < face_listed_.size(); ++f)
-        if (face_listed_[f]) faces.push_back(static_cast<int>(f));
-    } else {
-      std::sort(faces.begin(), faces.end());
-    }
-    for (int f : faces) face_listed_[static_cast<std::size_t>(f)] = 0;
+      for (auto f : mesh_->vf_range(Mesh::VertexHandle(v))) list_once(f.idx(), faces, face_listed_);
+    for (int f : flipped_faces_) list_once(f, faces, face_listed_);
+    sort_listed(faces, face_listed_);
     moved_vertices_.clear();
     flipped_faces_.clear();
     if (!grid_.refresh(*mesh_, margin_, faces)) rebuild();

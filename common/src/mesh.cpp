@@ -81,4 +81,15 @@ void faces_around(const Mesh& mesh, const std::vector<int>& vertices, std::vecto
   std::sort(faces.begin(), faces.end());
 }
 
+void sort_listed(std::vector<int>& listed, std::vector<char>& flags) {
+  if (16 * listed.size() > flags.size()) {
+    listed.clear();
+    for (std::size_t i = 0; i < flags.size(); ++i)
+      if (flags[i]) listed.push_back(static_cast<int>(i));
+  } else {
+    std::sort(listed.begin(), listed.end());
+  }
+  for (int i : listed) flags[static_cast<std::size_t>(i)] = 0;
+}
+
 }  // namespace gdm

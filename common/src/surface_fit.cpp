@@ -582,26 +582,13 @@ FitResult fit_to_threshold(Mesh& mesh, const Volume& volume, double threshold, c
       //  registered with the box of every place its corners may go this
       //  pass, so no move leaves the grid behind and the checks only read
       //  it; each answer is the guard's yes or no over the same faces.
-      //  The faces around the moves, each once, ascending: by a flag per
-      //  face (sorting every move's faces with their repeats cost more), read
-      //  back by a pass over the flags when the list is long.
+      //  The faces around the moves, each once, ascending.
       std::vector<int>& faces = scratch().faces;
       faces.clear();
       face_listed.resize(mesh.n_faces(), 0);
       for (int i : movers)
-        for (auto f : mesh.vf_range(Mesh::VertexHandle(i)))
-          if (!face_listed[static_cast<std::size_t>(f.idx())]) {
-            face_listed[static_cast<std::size_t>(f.idx())] = 1;
-            faces.push_back(f.idx());
-          }
-      if (16 * faces.size() > face_listed.size()) {
-        faces.clear();
-        for (std::size_t f = 0; f < face_listed.size(); ++f)
-          if (face_listed[f]) faces.push_back(static_cast<int>(f));
-      } else {
-        std::sort(faces.begin(), faces.end());
-      }
-      for (int f : faces) face_listed[static_cast<std::size_t>(f)] = 0;
+        for (auto f : mesh.vf_range(Mesh::VertexHandle(i))) list_once(f.idx(), faces, face_listed);
+      sort_listed(faces, face_listed);
       for (int f : faces) {
         Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
         for (auto w : mesh.fv_range(Mesh::FaceHandle(f))) {

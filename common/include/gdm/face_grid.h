@@ -95,6 +95,8 @@ class FaceGrid {
   void grow_to(std::size_t faces);
   void add_to_cells(int face, const Vec3& lo, const Vec3& hi);
   void remove_from_cells(int face);
+  // Every entry of the face in one cell gone (the last entry takes each place).
+  void remove_from_cell(Key cell_key, int face);
   // A face listed once in each cell from `from_lo` to `from_hi` (cell
   // coordinates) listed so in those from `to_lo` to `to_hi` instead.
   void move_cells(int face, const std::array<int, 3>& from_lo, const std::array<int, 3>& from_hi,

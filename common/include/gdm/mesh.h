@@ -70,6 +70,21 @@ inline std::vector<int> faces_around(const Mesh& mesh, const std::vector<int>& v
   return faces;
 }
 
+// Lists index i in `listed` unless its flag is set, and sets it: each index
+// once, whatever the repeats (a flag per index instead of sorting every
+// repeat: the guard's and the fit's faces around their moves).
+inline void list_once(int i, std::vector<int>& listed, std::vector<char>& flags) {
+  char& flag = flags[static_cast<std::size_t>(i)];
+  if (flag) return;
+  flag = 1;
+  listed.push_back(i);
+}
+
+// The indices list_once() listed, in ascending order, their flags cleared:
+// by a pass over the flags when they are many (over a sixteenth of the
+// flags), else by a sort of the list.
+void sort_listed(std::vector<int>& listed, std::vector<char>& flags);
+
 // The per-vertex generation (the deformation cycle that created the vertex,
 // paper section 6.4, Fig. 11), stored as the OpenMesh property "v:generation".
 inline OpenMesh::VPropHandleT<int> generation_property(Mesh& mesh) {
