@@ -106,6 +106,8 @@ TEST(Parallel, a_task_exception_reaches_the_caller_after_the_other_tasks_ran) {
 }
 
 TEST(SpaceBlocks, a_colour_runs_every_item_once_each_cube_in_order_on_one_worker) {
+  // (and the colouring is the same whether its order comes from packed keys
+  // or from the fields)
   // Points in a 40 x 40 x 40 box, denser in one corner (cubes of unequal
   // work, as the moves' are), grouped by cubes 4 wide.
   std::vector<int> items;
@@ -127,6 +129,15 @@ TEST(SpaceBlocks, a_colour_runs_every_item_once_each_cube_in_order_on_one_worker
   std::size_t listed = 0;
   for (std::size_t c = 0; c < 8; ++c) listed += cubes.items[c].size();
   ASSERT_EQ(listed, items.size());
+  // Two million cubes away (an even number: the same colours), beyond the
+  // packed keys' reach: ordered by the fields, the same colouring.
+  std::vector<gdm::Vec3> far = at;
+  for (gdm::Vec3& p : far) p += gdm::Vec3::Constant(2.0e6 * width);
+  const gdm::CubeColouring by_fields = gdm::colour_by_cubes(items, far, width);
+  for (std::size_t c = 0; c < 8; ++c) {
+    EXPECT_EQ(by_fields.items[c], cubes.items[c]) << "colour " << c;
+    EXPECT_EQ(by_fields.cube_starts[c], cubes.cube_starts[c]) << "colour " << c;
+  }
   for (std::size_t workers : {1u, 2u, 3u, 4u}) {
     for (std::size_t c = 0; c < 8; ++c) {
       const std::vector<int>& list = cubes.items[c];
