@@ -11,6 +11,13 @@ namespace {
 
 Vec3 pos(const Mesh& mesh, Mesh::VertexHandle v) { return to_eigen(mesh.point(v)); }
 
+// The face's normal times twice its area.
+Vec3 face_normal_area(const Mesh& mesh, Mesh::FaceHandle f) {
+  auto it = mesh.cfv_iter(f);
+  const Vec3 a = pos(mesh, *it), b = pos(mesh, *++it), c = pos(mesh, *++it);
+  return (b - a).cross(c - a);
+}
+
 double face_area(const Mesh& mesh, Mesh::FaceHandle f) {
   auto it = mesh.cfv_iter(f);
   const Vec3 a = pos(mesh, *it), b = pos(mesh, *++it), c = pos(mesh, *++it);
@@ -152,9 +159,13 @@ std::size_t flip_to_improve(Mesh& mesh, double max_dihedral_deg, const FlipVeto&
   return flips;
 }
 
-std::size_t relax_toward_neighbours(Mesh& mesh, const std::vector<Mesh::VertexHandle>& vertices, double fraction,
-                                    double max_move, int passes, const std::function<void()>& before_pass,
-                                    const MoveCheck& accept) {
+namespace {
+
+// The passes of both relaxations: each vertex of `vertices`, in order,
+// `fraction` of the way toward its neighbours' centroid (within the plane of
+// its area-weighted normal when `tangential`), at most `max_move` a pass.
+std::size_t relax(Mesh& mesh, const std::vector<Mesh::VertexHandle>& vertices, bool tangential, double fraction,
+                  double max_move, int passes, const std::function<void()>& before_pass, const MoveCheck& accept) {
   std::size_t moves = 0;
   for (int pass = 0; pass < passes; ++pass) {
     if (before_pass) before_pass();
@@ -169,6 +180,13 @@ std::size_t relax_toward_neighbours(Mesh& mesh, const std::vector<Mesh::VertexHa
       }
       if (n == 0) continue;
       Vec3 step = fraction * (centroid / n - p);
+      if (tangential) {
+        Vec3 normal = Vec3::Zero();
+        for (auto f : mesh.vf_range(v)) normal += face_normal_area(mesh, f);
+        if (!(normal.norm() > 0.0)) continue;
+        normal.normalize();
+        step -= step.dot(normal) * normal;
+      }
       const double length = step.norm();
       if (length < 1e-3 * max_move) continue;
       if (length > max_move) step *= max_move / length;
@@ -181,6 +199,39 @@ std::size_t relax_toward_neighbours(Mesh& mesh, const std::vector<Mesh::VertexHa
     if (largest < 0.01 * max_move) break;
   }
   return moves;
+}
+
+}  // namespace
+
+std::size_t relax_toward_neighbours(Mesh& mesh, const std::vector<Mesh::VertexHandle>& vertices, double fraction,
+                                    double max_move, int passes, const std::function<void()>& before_pass,
+                                    const MoveCheck& accept) {
+  return relax(mesh, vertices, false, fraction, max_move, passes, before_pass, accept);
+}
+
+std::vector<char> crease_vertices(const Mesh& mesh, double max_dihedral_deg) {
+  const double min_cos = std::cos(max_dihedral_deg * M_PI / 180.0);
+  std::vector<char> on_crease(mesh.n_vertices(), 0);
+  for (auto e : mesh.edges()) {
+    if (mesh.is_boundary(e)) continue;
+    const Vec3 n0 = face_normal_area(mesh, mesh.face_handle(mesh.halfedge_handle(e, 0)));
+    const Vec3 n1 = face_normal_area(mesh, mesh.face_handle(mesh.halfedge_handle(e, 1)));
+    const double l = n0.norm() * n1.norm();
+    if (l > 0.0 && n0.dot(n1) >= min_cos * l) continue;
+    on_crease[static_cast<std::size_t>(mesh.to_vertex_handle(mesh.halfedge_handle(e, 0)).idx())] = 1;
+    on_crease[static_cast<std::size_t>(mesh.from_vertex_handle(mesh.halfedge_handle(e, 0)).idx())] = 1;
+  }
+  return on_crease;
+}
+
+std::size_t relax_tangentially(Mesh& mesh, const std::vector<char>& held, double fraction, double max_move, int passes,
+                               const std::function<void()>& before_pass, const MoveCheck& accept) {
+  std::vector<Mesh::VertexHandle> free;
+  for (auto v : mesh.vertices()) {
+    const auto i = static_cast<std::size_t>(v.idx());
+    if (!(i < held.size() && held[i]) && !mesh.is_boundary(v)) free.push_back(v);
+  }
+  return relax(mesh, free, true, fraction, max_move, passes, before_pass, accept);
 }
 
 }  // namespace gdm

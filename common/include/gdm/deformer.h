@@ -123,8 +123,10 @@ struct DeformOptions {
   std::size_t face_budget = 0;       // the final model's faces, about (within 5 %); 0 = off (the level of
                                      // detail decides). The converged model is subdivided 1-to-4 and fitted
                                      // until it has 3.5 times N faces, then edges are collapsed, least
-                                     // quadric error of the fitted surface first, and the vertices fitted
-                                     // again (face_budget.h); needs lod_tolerance 0 and no obstacle; fits
+                                     // quadric error of the fitted surface first, the faces evened out along
+                                     // the surface (flips, tangential relaxation off the creases) and the
+                                     // vertices fitted again (face_budget.h); needs lod_tolerance 0 and no
+                                     // obstacle; fits
                                      // even when subvoxel_fit is off
   double min_angle = 10.0;           // triangle quality, degrees in [0, 30] (0 = off): the last geometric
                                      // step improves every face with a smaller angle by guarded flips,
@@ -235,6 +237,7 @@ struct DeformResult {
   std::size_t faces = 0;                // faces of the final model
   std::size_t budget_subdivisions = 0;  // 1-to-4 subdivisions (each followed by a fit) to exceed the budget
   std::size_t budget_collapses = 0;     // edges collapsed to meet it
+  std::size_t budget_relax_moves = 0;   // moves evening out the reduced model's faces along its surface
   std::size_t budget_splits = 0;        // edges split to meet it again after the triangle-quality pass
   std::size_t float_refused = 0;  // vertices float_exact_output could not move safely (0 in practice)
   StageSeconds seconds;           // where the time went

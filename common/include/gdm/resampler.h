@@ -65,4 +65,21 @@ std::size_t relax_toward_neighbours(Mesh& mesh, const std::vector<Mesh::VertexHa
                                     double max_move, int passes, const std::function<void()>& before_pass,
                                     const MoveCheck& accept);
 
+// The vertices with an edge whose two faces turn by more than
+// `max_dihedral_deg` (or meet in a degenerate face): one flag per vertex.
+std::vector<char> crease_vertices(const Mesh& mesh, double max_dihedral_deg);
+
+// Tangential relaxation (beyond the paper, issue 16): each vertex not `held`
+// (one flag per vertex; boundary vertices stay too), in vertex order (the
+// same result for any thread count), moves `fraction` of the way toward the
+// centroid of its neighbours within the plane of its area-weighted normal,
+// at most `max_move` (mm) a pass, where `accept(vertex, new position)`
+// allows it; `before_pass` runs before every pass. The triangles' angles
+// and sizes grow more even while the surface keeps its shape to second order
+// (a move of t along a surface of curvature k leaves it by about k t^2 / 2,
+// which a fit along the normal takes back). Stops after `passes` passes or
+// when no move exceeded a hundredth of `max_move`. Returns the moves made.
+std::size_t relax_tangentially(Mesh& mesh, const std::vector<char>& held, double fraction, double max_move, int passes,
+                               const std::function<void()>& before_pass, const MoveCheck& accept);
+
 }  // namespace gdm
