@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <random>
+#include <vector>
 
 #include "gdm/mesh_checks.h"
 #include "gdm/resampler.h"
@@ -160,4 +162,134 @@ TEST(Resampler, splits_of_flagged_faces_are_those_of_a_full_pass_when_the_others
   // Flags that leave out accepted faces leave them unsplit.
   std::vector<char> none(flagged.n_faces(), 0);
   EXPECT_EQ(split_longest_edges(flagged, 3, too_large(flagged, 0.0), &none), 0u);
+}
+
+namespace {
+
+// Twice the mean over the faces of the circumradius squared: a face's
+// sagitta over a sphere of radius R is its circumradius squared over 2R, so
+// this is what the faces miss of the sphere, times R.
+double mean_circumradius_squared(const Mesh& mesh) {
+  double sum = 0.0;
+  for (auto f : mesh.faces()) {
+    auto it = mesh.cfv_iter(f);
+    const Vec3 a = to_eigen(mesh.point(*it)), b = to_eigen(mesh.point(*++it)), c = to_eigen(mesh.point(*++it));
+    const double la = (b - c).norm(), lb = (a - c).norm(), lc = (a - b).norm();
+    const double twice_area = (b - a).cross(c - a).norm();
+    sum += std::pow(la * lb * lc / (2.0 * twice_area), 2);
+  }
+  return sum / static_cast<double>(mesh.n_faces());
+}
+
+// A geodesic sphere whose vertices were pushed along it by up to a third of
+// an edge (a fixed seed), as a reduction leaves a smooth surface's faces.
+Mesh uneven_sphere(const Vec3& c, double radius) {
+  Mesh mesh = make_geodesic_sphere(c, radius, 3);
+  std::mt19937 rng(61);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const double edge = mesh.calc_edge_length(*mesh.edges_begin());
+  for (auto v : mesh.vertices()) {
+    const Vec3 p = to_eigen(mesh.point(v)) - c;
+    Vec3 t(u(rng), u(rng), u(rng));
+    t -= t.dot(p.normalized()) * p.normalized();
+    const Vec3 q = p + (edge / 3.0) * t.normalized() * std::abs(u(rng));
+    mesh.set_point(v, to_point(c + radius * q.normalized()));
+  }
+  return mesh;
+}
+
+}  // namespace
+
+// relax_tangentially on a sphere whose faces are uneven: the faces' sagitta
+// falls (once the vertices are put back on the sphere, as the face budget's
+// fit does) and the smallest angle rises, while the moves stay along the
+// surface: no vertex leaves the sphere by more than t^2 / R for steps t of at
+// most a voxel, and the sphere shrinks by less than a tenth of what the same
+// passes toward the neighbours' centroid (relax_toward_neighbours) take.
+TEST(Resampler, tangential_relaxation_evens_out_faces_along_the_surface) {
+  const Vec3 c(3, -2, 5);
+  const double radius = 12.0;
+  Mesh mesh = uneven_sphere(c, radius);
+  const auto radial_offsets = [&](const Mesh& m, double& worst, double& mean) {
+    worst = 0.0;
+    mean = 0.0;
+    for (auto v : m.vertices()) {
+      const double off = (to_eigen(m.point(v)) - c).norm() - radius;
+      worst = std::max(worst, std::abs(off));
+      mean += off / static_cast<double>(m.n_vertices());
+    }
+  };
+  const auto anywhere = [](Mesh::VertexHandle, const Vec3&) { return true; };
+  Mesh plain = mesh;
+  std::vector<Mesh::VertexHandle> all(plain.vertices().begin(), plain.vertices().end());
+  relax_toward_neighbours(plain, all, 0.5, 1.0, 3, nullptr, anywhere);
+  double plain_worst = 0.0, plain_mean = 0.0;
+  radial_offsets(plain, plain_worst, plain_mean);
+
+  const double before = mean_circumradius_squared(mesh);
+  const double angle_before = smallest_angle_degrees(mesh);
+  const std::size_t moves = relax_tangentially(mesh, {}, 0.5, 1.0, 3, nullptr, anywhere);
+  EXPECT_GT(moves, mesh.n_vertices());
+  double worst = 0.0, mean = 0.0;
+  radial_offsets(mesh, worst, mean);
+  EXPECT_LE(worst, 1.0 / radius);
+  EXPECT_LT(std::abs(mean), 0.1 * std::abs(plain_mean));
+  for (auto v : mesh.vertices()) mesh.set_point(v, to_point(c + radius * (to_eigen(mesh.point(v)) - c).normalized()));
+  const double after = mean_circumradius_squared(mesh);
+  std::printf("mean circumradius^2 %.4f -> %.4f, smallest angle %.1f -> %.1f deg, moves %zu; off the sphere at most %.4f, "
+              "mean %.5f (toward the centroid: %.4f, %.5f)\n",
+              before, after, angle_before, smallest_angle_degrees(mesh), moves, worst, mean, plain_worst, plain_mean);
+  EXPECT_LT(after, 0.9 * before);
+  EXPECT_GT(smallest_angle_degrees(mesh), angle_before + 5.0);
+  EXPECT_TRUE(is_two_manifold(mesh));
+  EXPECT_EQ(genus(mesh), 0);
+}
+
+// crease_vertices on a cube built from a geodesic sphere (each vertex pushed
+// out onto the cube of half-width 10): at 30 degrees the creases' vertices
+// are some of those with a neighbour on another side of the cube, none of
+// those whose neighbours all lie on their side. relax_tangentially with the
+// latter free: each moves within its flat side (the cube keeps its shape
+// exactly), the held ones and those whose moves `accept` refuses stay where
+// they are.
+TEST(Resampler, tangential_relaxation_keeps_held_vertices_and_flat_sides) {
+  Mesh mesh = make_geodesic_sphere(Vec3::Zero(), 1.0, 3);
+  for (auto v : mesh.vertices()) {
+    const Vec3 p = to_eigen(mesh.point(v));
+    mesh.set_point(v, to_point(10.0 * p / p.cwiseAbs().maxCoeff()));
+  }
+  const auto on_side = [](const Vec3& p, int axis, double sign) { return sign * p[axis] > 10.0 - 1e-9; };
+  const std::vector<char> creases = crease_vertices(mesh, 30.0);
+  std::vector<char> held(mesh.n_vertices(), 1);
+  std::size_t on_creases = 0, inside_sides = 0;
+  for (auto v : mesh.vertices()) {
+    const Vec3 p = to_eigen(mesh.point(v));
+    const auto i = static_cast<std::size_t>(v.idx());
+    int axis = 0;
+    p.cwiseAbs().maxCoeff(&axis);
+    const double sign = p[axis] > 0.0 ? 1.0 : -1.0;
+    bool flat = true;
+    for (auto w : mesh.vv_range(v)) flat = flat && on_side(to_eigen(mesh.point(w)), axis, sign);
+    on_creases += creases[i] ? 1 : 0;
+    if (!flat) continue;
+    ++inside_sides;
+    EXPECT_FALSE(creases[i]) << p.transpose();
+    held[i] = 0;
+  }
+  ASSERT_GT(on_creases, 50u);
+  ASSERT_GT(inside_sides, 100u);
+  std::vector<Vec3> before;
+  for (auto v : mesh.vertices()) before.push_back(to_eigen(mesh.point(v)));
+  // Every third vertex refuses to move.
+  const auto accept = [](Mesh::VertexHandle v, const Vec3&) { return v.idx() % 3 != 0; };
+  const std::size_t moves = relax_tangentially(mesh, held, 0.5, 1.0, 3, nullptr, accept);
+  EXPECT_GT(moves, 100u);
+  for (auto v : mesh.vertices()) {
+    const Vec3 p = to_eigen(mesh.point(v));
+    const auto i = static_cast<std::size_t>(v.idx());
+    if (held[i] || v.idx() % 3 == 0) EXPECT_EQ(p, before[i]);
+    int axis = 0;
+    before[i].cwiseAbs().maxCoeff(&axis);
+    EXPECT_NEAR(p[axis], before[i][axis], 1e-9) << p.transpose();
+  }
 }
