@@ -86,9 +86,10 @@ Outcome run(const Case& c, double share) {
   out.mesh = make_icosahedron(c.seed, 3.0);
   out.result = deform(out.mesh, c.volume, o);
   out.distance = test::surface_distances(out.mesh, c.distance, c.volume.voxel_size());
-  std::printf("%s: budget %zu (%.0f %% of marching cubes), faces %zu; mean %.4f p95 %.4f max %.4f voxel; smallest angle %.2f deg\n",
+  std::printf("%s: budget %zu (%.0f %% of marching cubes), faces %zu; mean %.4f p95 %.4f max %.4f voxel; smallest angle %.2f deg; "
+              "evened out: %zu moves\n",
               c.name.c_str(), out.budget, 100.0 * share, out.mesh.n_faces(), out.distance.mean, out.distance.p95,
-              out.distance.max, smallest_angle_degrees(out.mesh));
+              out.distance.max, smallest_angle_degrees(out.mesh), out.result.budget_relax_moves);
   return out;
 }
 
@@ -103,12 +104,14 @@ void expect_budget_met(const Outcome& out, const std::string& name) {
 
 // The issue's accuracy target at 10 % of marching cubes' faces: mean at most
 // 0.07 voxel, p95 at most 0.18. Met on the noisy sphere (measured 0.0265 /
-// 0.060; 0.029 / 0.066 before the faces were evened out, stop 61), the noisy
-// C tube (0.047 / 0.116; 0.049 / 0.118) and the noisy ellipsoid on
-// 0.5 x 0.5 x 2 mm voxels (0.055 / 0.121; 0.063 / 0.145; 0.091 / 0.208 when
-// this test was written), asserted there. Not met yet, so only the budget
-// and the guarantees are asserted (issue 16 stays open): the branching tube
-// with 10 % noise (0.075 / 0.203).
+// 0.060, its faces evened out; 0.029 / 0.066 before that step, stop 61), the
+// noisy C tube (0.047 / 0.116, evened; 0.049 / 0.118) and the noisy
+// ellipsoid on 0.5 x 0.5 x 2 mm voxels (0.063 / 0.145: the collapses' own
+// placement kept, nearer the fine model, though the evened candidate was
+// nearer the truth, 0.055 / 0.121; 0.091 / 0.208 when this test was
+// written), asserted there. Not met yet, so only the budget and the
+// guarantees are asserted (issue 16 stays open): the branching tube with
+// 10 % noise (0.075 / 0.203).
 TEST(FaceBudgetTargets, noisy_phantoms_at_a_tenth_of_marching_cubes_faces) {
   for (const Case& c : {noisy_sphere(), noisy_c_tube(), noisy_ellipsoid()}) {
     const Outcome out = run(c, 0.10);
@@ -122,7 +125,8 @@ TEST(FaceBudgetTargets, noisy_phantoms_at_a_tenth_of_marching_cubes_faces) {
 // The reduced model's faces evened out along its surface before the last fit
 // (Deformer::even_out_faces, stop 61): on smooth phantoms at 5 % of marching
 // cubes' faces, where each face's sagitta is most of the error, the faces'
-// shapes decide how close they sit. Measured with / without: noisy sphere
+// shapes decide how close they sit, and the evened candidate is the one kept
+// (nearer the fine fitted model). Measured with / without: noisy sphere
 // mean 0.0394 / 0.0485 voxel, p95 0.106 / 0.119, smallest angle 31.3 / 16.6
 // degrees; noisy ellipsoid on 0.5 x 0.5 x 2 mm voxels 0.0757 / 0.0972, p95
 // 0.198 / 0.228, smallest angle 33.0 / 12.9. Asserted: mean at most 0.044 and

@@ -10,6 +10,7 @@
 #include <random>
 #include <vector>
 
+#include "gdm/seed.h"
 #include "gdm/triangle_locator.h"
 
 using namespace gdm;
@@ -196,4 +197,40 @@ TEST(TriangleLocator, searches_past_empty_buckets_to_a_far_cluster) {
     expect_exact(locator, soup, p, "between the clusters");
   }
   EXPECT_EQ(TriangleLocator({}).distance(Vec3::Zero()), std::numeric_limits<double>::infinity());
+}
+
+// mean_distance: the vertices and face centroids of a geodesic sphere of
+// radius 10 against the triangles of one of radius 12 (the same level, so
+// each point lies under a face of the larger one, at 2 voxels along the
+// radius, less toward the larger sphere's flat faces); against itself 0;
+// the same sum for 1 and 4 threads.
+TEST(TriangleLocator, mean_distance_of_a_mesh_over_its_vertices_and_centroids) {
+  const gdm::Vec3 c(1, 2, 3);
+  const gdm::Mesh inner = gdm::make_geodesic_sphere(c, 10.0, 4);
+  const gdm::Mesh outer = gdm::make_geodesic_sphere(c, 12.0, 4);
+  const gdm::TriangleLocator to_outer(gdm::triangles_of(outer));
+  const gdm::TriangleLocator to_inner(gdm::triangles_of(inner));
+  // Brute force: each sample's distance to the nearest triangle.
+  const auto soup = gdm::triangles_of(outer);
+  double sum = 0.0;
+  std::size_t n = 0;
+  const auto add = [&](const gdm::Vec3& p) {
+    double best = std::numeric_limits<double>::infinity();
+    for (const auto& t : soup) best = std::min(best, gdm::point_triangle_distance(p, t));
+    sum += best;
+    ++n;
+  };
+  for (auto v : inner.vertices()) add(gdm::to_eigen(inner.point(v)));
+  for (auto f : inner.faces()) {
+    auto it = inner.cfv_iter(f);
+    const gdm::Vec3 a = gdm::to_eigen(inner.point(*it)), b = gdm::to_eigen(inner.point(*++it)),
+                    d = gdm::to_eigen(inner.point(*++it));
+    add((a + b + d) / 3.0);
+  }
+  const double one = gdm::mean_distance(inner, to_outer, 1);
+  EXPECT_NEAR(one, sum / static_cast<double>(n), 1e-12);
+  EXPECT_GT(one, 1.9);
+  EXPECT_LT(one, 2.0);
+  EXPECT_EQ(gdm::mean_distance(inner, to_outer, 4), one);
+  EXPECT_NEAR(gdm::mean_distance(inner, to_inner, 2), 0.0, 1e-12);
 }

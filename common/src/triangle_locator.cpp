@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "gdm/parallel.h"
+
 namespace gdm {
 
 std::vector<Triangle> triangles_of(const Mesh& mesh) {
@@ -137,6 +139,25 @@ double TriangleLocator::distance(const Vec3& p) const {
     if (best <= clearance) break;
   }
   return best;
+}
+
+double mean_distance(const Mesh& mesh, const TriangleLocator& to, int threads) {
+  const std::size_t nv = mesh.n_vertices(), n = nv + mesh.n_faces();
+  std::vector<double> distance(n, 0.0);
+  parallel_for(n, threads, [&](std::size_t i) {
+    Vec3 p;
+    if (i < nv) {
+      p = to_eigen(mesh.point(Mesh::VertexHandle(static_cast<int>(i))));
+    } else {
+      auto it = mesh.cfv_iter(Mesh::FaceHandle(static_cast<int>(i - nv)));
+      const Vec3 a = to_eigen(mesh.point(*it)), b = to_eigen(mesh.point(*++it)), c = to_eigen(mesh.point(*++it));
+      p = (a + b + c) / 3.0;
+    }
+    distance[i] = to.distance(p);
+  });
+  double sum = 0.0;  // in index order: the same sum for any thread count
+  for (const double d : distance) sum += d;
+  return n > 0 ? sum / static_cast<double>(n) : 0.0;
 }
 
 }  // namespace gdm

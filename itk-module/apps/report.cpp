@@ -216,6 +216,7 @@ std::string report_json(const RunRecord& r, const Options& options) {
       .add("budget_subdivisions", json_number(r.model.budget_subdivisions))
       .add("budget_collapses", json_number(r.model.budget_collapses))
       .add("budget_splits", json_number(r.model.budget_splits))
+      .add("budget_relax_moves", json_number(r.model.budget_relax_moves))
       .add("float_refused", json_number(r.model.float_refused))
       .add("gap_closed_voxels", json_number(r.model.gap_closed_voxels))
       .add("gap_reachable_voxels", json_number(r.model.gap_reachable_voxels))

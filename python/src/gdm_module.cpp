@@ -665,6 +665,7 @@ py::dict model_report(const gdm::DeformResult& r, double seconds, double check_s
   d["budget_subdivisions"] = r.budget_subdivisions;
   d["budget_collapses"] = r.budget_collapses;
   d["budget_splits"] = r.budget_splits;
+  d["budget_relax_moves"] = r.budget_relax_moves;
   d["float_refused"] = r.float_refused;
   d["gap_closed_voxels"] = r.gap_closed_voxels;
   d["gap_reachable_voxels"] = r.gap_reachable_voxels;

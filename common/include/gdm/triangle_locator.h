@@ -35,4 +35,8 @@ class TriangleLocator {
   std::vector<std::vector<int>> buckets_;
 };
 
+// The mean distance from the vertices and face centroids of `mesh` to the
+// triangles of `to`; the same for any thread count.
+double mean_distance(const Mesh& mesh, const TriangleLocator& to, int threads);
+
 }  // namespace gdm
