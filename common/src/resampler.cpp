@@ -18,11 +18,7 @@ Vec3 face_normal_area(const Mesh& mesh, Mesh::FaceHandle f) {
   return (b - a).cross(c - a);
 }
 
-double face_area(const Mesh& mesh, Mesh::FaceHandle f) {
-  auto it = mesh.cfv_iter(f);
-  const Vec3 a = pos(mesh, *it), b = pos(mesh, *++it), c = pos(mesh, *++it);
-  return 0.5 * (b - a).cross(c - a).norm();
-}
+double face_area(const Mesh& mesh, Mesh::FaceHandle f) { return 0.5 * face_normal_area(mesh, f).norm(); }
 
 double angle_at(const Vec3& apex, const Vec3& p, const Vec3& q) {
   const Vec3 u = p - apex, w = q - apex;
