@@ -326,7 +326,7 @@ class Deformer {
  private:
   bool run_cycle(int cycle);
   void compute_face_normals();
-  double face_normal_area(Mesh::FaceHandle f) const;  // twice the face's area, mm^2
+  double face_area(Mesh::FaceHandle f) const;  // mm^2
   VertexNeighbourhood neighbourhood(Mesh::VertexHandle v) const;
   std::vector<int> evaluate_active(std::vector<StepResult>& steps);
   std::size_t apply_moves(const std::vector<int>& candidates, const std::vector<StepResult>& steps,
@@ -566,9 +566,7 @@ void Deformer::compute_face_normals() {
     if (face_flags_[i] || i >= old) faces.push_back(static_cast<int>(i));
   parallel_for(faces.size(), threads_, [&](std::size_t k) {
     const auto i = static_cast<std::size_t>(faces[k]);
-    auto it = mesh_.cfv_iter(Mesh::FaceHandle(static_cast<int>(i)));
-    const Vec3 a = to_eigen(mesh_.point(*it)), b = to_eigen(mesh_.point(*++it)), c = to_eigen(mesh_.point(*++it));
-    face_normal_[i] = (b - a).cross(c - a);  // length = twice the area: area weighting
+    face_normal_[i] = face_area_normal(mesh_, Mesh::FaceHandle(static_cast<int>(i)));
   });
 }
 
@@ -852,7 +850,7 @@ std::size_t Deformer::resample(int cycle) {
       [&](Mesh::FaceHandle f, Mesh::HalfedgeHandle) {
         double target = 0.0;  // fine only where all three corners are
         for (auto v : mesh_.fv_range(f)) target = std::max(target, local_area_[v.idx()]);
-        return 0.5 * face_normal_area(f) > target;
+        return face_area(f) > target;
       },
       &face_flags_);
   grow_per_vertex_state();
@@ -893,11 +891,7 @@ std::size_t Deformer::resample(int cycle) {
   return splits;
 }
 
-double Deformer::face_normal_area(Mesh::FaceHandle f) const {
-  auto it = mesh_.cfv_iter(f);
-  const Vec3 a = to_eigen(mesh_.point(*it)), b = to_eigen(mesh_.point(*++it)), c = to_eigen(mesh_.point(*++it));
-  return (b - a).cross(c - a).norm();
-}
+double Deformer::face_area(Mesh::FaceHandle f) const { return 0.5 * face_area_normal(mesh_, f).norm(); }
 
 // Whether face f spans the mouth of a channel narrower than itself: at some
 // of the points of the face (a grid about half a voxel apart), but at most
@@ -1048,7 +1042,7 @@ void Deformer::ask_around_held_vertices(double finest, std::vector<char>& at_mou
     const double floor = area_for_width(width, w, finest, coarse);
     for (auto f : mesh_.vf_range(v)) {
       const std::size_t i = static_cast<std::size_t>(f.idx());
-      const double area = 0.5 * face_normal_area(f);
+      const double area = face_area(f);
       if (!(area > kAskAboveFinest * finest) || !(area > floor)) continue;
       floor_area[i] = at_mouth[i] ? std::min(floor_area[i], floor) : floor;
       at_mouth[i] = 1;
@@ -1075,9 +1069,7 @@ bool Deformer::in_the_open(const Vec3& p) const {
 double Deformer::width_area(Mesh::VertexHandle v) const {
   Vec3 normal = Vec3::Zero();
   for (auto f : mesh_.vf_range(v)) {
-    auto it = mesh_.cfv_iter(f);
-    const Vec3 a = to_eigen(mesh_.point(*it)), b = to_eigen(mesh_.point(*++it)), c = to_eigen(mesh_.point(*++it));
-    normal += (b - a).cross(c - a);
+    normal += face_area_normal(mesh_, f);
   }
   // Only a vertex that looks into free room ahead (the model's front in a
   // channel or a sheet): one made against a wall, at a mouth's rim say,
@@ -1168,7 +1160,7 @@ std::size_t Deformer::refine_where_blocked(int cycle) {
     floor_verdict_[i] = finest;
     const Mesh::FaceHandle f(static_cast<int>(i));
     if (mesh_.has_face_status() && mesh_.status(f).deleted()) return;
-    const double area = 0.5 * face_normal_area(f);
+    const double area = face_area(f);
     thread_local std::vector<Vec3> free_points;
     if (!(area > kAskAboveFinest * finest)) return;
     // The face spans the mouth of a channel: its corners stand on the wall
@@ -1198,7 +1190,7 @@ std::size_t Deformer::refine_where_blocked(int cycle) {
   if (!asking.empty()) std::fill(active_.begin(), active_.end(), 0);
   for (int i : asking) {
     const Mesh::FaceHandle f(i);
-    const double target = std::max(floor_area[static_cast<std::size_t>(i)], 0.25 * 0.5 * face_normal_area(f));
+    const double target = std::max(floor_area[static_cast<std::size_t>(i)], 0.25 * face_area(f));
     for (auto v : mesh_.fv_range(f)) {
       local_area_[v.idx()] = std::min(local_area_[v.idx()], target);
       activate_around(v);
@@ -1559,9 +1551,7 @@ void Deformer::settle_budget(DeformResult& result) {
     // The largest faces first (ties by index), as many as the budget lacks.
     std::vector<std::pair<double, int>> by_area;
     for (auto f : mesh_.faces()) {
-      auto it = mesh_.cfv_iter(f);
-      const Vec3 a = to_eigen(mesh_.point(*it)), b = to_eigen(mesh_.point(*++it)), c = to_eigen(mesh_.point(*++it));
-      by_area.emplace_back(-(b - a).cross(c - a).norm(), f.idx());
+      by_area.emplace_back(-face_area_normal(mesh_, f).norm(), f.idx());
     }
     std::sort(by_area.begin(), by_area.end());
     const auto wanted = static_cast<std::size_t>(std::ceil(0.5 * (budget - static_cast<double>(mesh_.n_faces()))));
@@ -1714,9 +1704,7 @@ std::vector<char> Deformer::in_background(const std::vector<char>& flagged) cons
 
 // Face f's unit normal and centroid, from the mesh as it is.
 Vec3 Deformer::face_normal_of(Mesh::FaceHandle f) const {
-  auto it = mesh_.cfv_iter(f);
-  const Vec3 a = to_eigen(mesh_.point(*it)), b = to_eigen(mesh_.point(*++it)), c = to_eigen(mesh_.point(*++it));
-  const Vec3 n = (b - a).cross(c - a);
+  const Vec3 n = face_area_normal(mesh_, f);
   return n.norm() > 0.0 ? Vec3(n.normalized()) : Vec3::Zero();
 }
 
@@ -1774,9 +1762,7 @@ bool Deformer::held_by_gate(Mesh::VertexHandle v) const {
   const Vec3 p = to_eigen(mesh_.point(v));
   Vec3 normal = Vec3::Zero();
   for (auto f : mesh_.vf_range(v)) {
-    auto it = mesh_.cfv_iter(f);
-    const Vec3 a = to_eigen(mesh_.point(*it)), b = to_eigen(mesh_.point(*++it)), c = to_eigen(mesh_.point(*++it));
-    normal += (b - a).cross(c - a);
+    normal += face_area_normal(mesh_, f);
   }
   if (!(normal.norm() > 0.0)) return false;
   const double sense = o_.mode == Mode::grow ? 1.0 : -1.0;

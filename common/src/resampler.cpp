@@ -11,14 +11,7 @@ namespace {
 
 Vec3 pos(const Mesh& mesh, Mesh::VertexHandle v) { return to_eigen(mesh.point(v)); }
 
-// The face's normal times twice its area.
-Vec3 face_normal_area(const Mesh& mesh, Mesh::FaceHandle f) {
-  auto it = mesh.cfv_iter(f);
-  const Vec3 a = pos(mesh, *it), b = pos(mesh, *++it), c = pos(mesh, *++it);
-  return (b - a).cross(c - a);
-}
-
-double face_area(const Mesh& mesh, Mesh::FaceHandle f) { return 0.5 * face_normal_area(mesh, f).norm(); }
+double face_area(const Mesh& mesh, Mesh::FaceHandle f) { return 0.5 * face_area_normal(mesh, f).norm(); }
 
 double angle_at(const Vec3& apex, const Vec3& p, const Vec3& q) {
   const Vec3 u = p - apex, w = q - apex;
@@ -178,7 +171,7 @@ std::size_t relax(Mesh& mesh, const std::vector<Mesh::VertexHandle>& vertices, b
       Vec3 step = fraction * (centroid / n - p);
       if (tangential) {
         Vec3 normal = Vec3::Zero();
-        for (auto f : mesh.vf_range(v)) normal += face_normal_area(mesh, f);
+        for (auto f : mesh.vf_range(v)) normal += face_area_normal(mesh, f);
         if (!(normal.norm() > 0.0)) continue;
         normal.normalize();
         step -= step.dot(normal) * normal;
@@ -210,8 +203,8 @@ std::vector<char> crease_vertices(const Mesh& mesh, double max_dihedral_deg) {
   std::vector<char> on_crease(mesh.n_vertices(), 0);
   for (auto e : mesh.edges()) {
     if (mesh.is_boundary(e)) continue;
-    const Vec3 n0 = face_normal_area(mesh, mesh.face_handle(mesh.halfedge_handle(e, 0)));
-    const Vec3 n1 = face_normal_area(mesh, mesh.face_handle(mesh.halfedge_handle(e, 1)));
+    const Vec3 n0 = face_area_normal(mesh, mesh.face_handle(mesh.halfedge_handle(e, 0)));
+    const Vec3 n1 = face_area_normal(mesh, mesh.face_handle(mesh.halfedge_handle(e, 1)));
     const double l = n0.norm() * n1.norm();
     if (l > 0.0 && n0.dot(n1) >= min_cos * l) continue;
     on_crease[static_cast<std::size_t>(mesh.to_vertex_handle(mesh.halfedge_handle(e, 0)).idx())] = 1;

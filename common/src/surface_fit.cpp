@@ -190,11 +190,6 @@ namespace {
 
 Vec3 pos(const Mesh& mesh, Mesh::VertexHandle v) { return to_eigen(mesh.point(v)); }
 
-Vec3 face_normal(const Mesh& mesh, Mesh::FaceHandle f) {
-  auto it = mesh.cfv_iter(f);
-  const Vec3 a = pos(mesh, *it), b = pos(mesh, *++it), c = pos(mesh, *++it);
-  return (b - a).cross(c - a);  // twice the area: area weighting
-}
 
 // Per-thread scratch of the per-vertex kernels below: they run for every
 // vertex of every pass, and their lists were allocated afresh each time.
@@ -207,7 +202,7 @@ Scratch& scratch() {
 }
 
 // The unit normal over the faces within `rings` rings of v (section 7), from
-// the faces' normals of the pass (`face_normals`, face_normal() of each:
+// the faces' normals of the pass (`face_normals`, face_area_normal() of each:
 // every face is in the sums of a dozen vertices).
 Vec3 smoothed_normal(const Mesh& mesh, Mesh::VertexHandle v, int rings, const std::vector<Vec3>& face_normals) {
   Scratch& s = scratch();
@@ -375,7 +370,7 @@ FitResult fit_to_threshold(Mesh& mesh, const Volume& volume, double threshold, c
   std::unique_ptr<IntersectionGuard> guard;
   std::vector<double> offset(mesh.n_vertices(), 0.0), smoothed;
   std::vector<Vec3> normal(mesh.n_vertices(), Vec3::Zero());
-  std::vector<Vec3> face_normals;  // per pass: face_normal() of every face
+  std::vector<Vec3> face_normals;  // per pass: face_area_normal() of every face
   // Per vertex, the face that refused its last move (-1: none): the guard
   // tries it first. A vertex pressed against another sheet of the model is
   // refused by the same face at its half and quarter steps and in the next
@@ -403,7 +398,7 @@ FitResult fit_to_threshold(Mesh& mesh, const Volume& volume, double threshold, c
     parallel_for(mesh.n_faces(), threads, [&](std::size_t f) {
       const Mesh::FaceHandle h(static_cast<int>(f));
       const bool gone = mesh.has_face_status() && mesh.status(h).deleted();
-      face_normals[f] = gone ? Vec3::Zero() : face_normal(mesh, h);
+      face_normals[f] = gone ? Vec3::Zero() : face_area_normal(mesh, h);
     });
     // 1. Every vertex's offset from the positions at the start of the pass:
     //    the weighted mean of the signed distances from its samples to the

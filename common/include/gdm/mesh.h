@@ -24,6 +24,14 @@ using Vec3 = Eigen::Vector3d;
 inline Vec3 to_eigen(const Mesh::Point& p) { return {p[0], p[1], p[2]}; }
 inline Mesh::Point to_point(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
 
+// (b - a) x (c - a) over face f's corners in the face's order: its normal,
+// twice its area long (the area weighting of the normals summed over rings).
+inline Vec3 face_area_normal(const Mesh& mesh, Mesh::FaceHandle f) {
+  auto it = mesh.cfv_iter(f);
+  const Vec3 a = to_eigen(mesh.point(*it)), b = to_eigen(mesh.point(*++it)), c = to_eigen(mesh.point(*++it));
+  return (b - a).cross(c - a);
+}
+
 }  // namespace gdm
 
 namespace gdm {
