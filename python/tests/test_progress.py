@@ -13,7 +13,8 @@ from conftest import sphere
 
 @pytest.fixture(scope="module")
 def big_ball():
-    """A model of about 50 cycles and a second or two."""
+    """A model of about 50 cycles (0.2 s on two cores here, a second or two
+    when these tests were written: the engine got faster)."""
     volume, _ = sphere(64, radius=28.0)
     return volume
 
@@ -85,7 +86,10 @@ def test_ctrl_c_cancels_cleanly():
 
 def test_gil_is_released_while_the_model_deforms(big_ball):
     """A Python thread keeps counting while the model runs (no callback: the
-    GIL is only taken back between cycles for Ctrl-C)."""
+    GIL is only taken back between cycles for Ctrl-C). The model is made
+    again until half a second has passed, so the gaps are measured over
+    enough time on any machine (one model took 0.19 s here, and the test's
+    check that it ran long enough to tell failed on an idle machine)."""
     ticks = []
     stop = threading.Event()
 
@@ -98,17 +102,19 @@ def test_gil_is_released_while_the_model_deforms(big_ball):
     t.start()
     time.sleep(0.05)
     start = time.monotonic()
-    gdm.extract_surface(big_ball, threshold=50, seed_radius=2.0)
+    models = 0
+    while models == 0 or time.monotonic() - start < 0.5:
+        gdm.extract_surface(big_ball, threshold=50, seed_radius=2.0)
+        models += 1
     end = time.monotonic()
     stop.set()
     t.join()
     during = [x for x in ticks if start <= x <= end]
     duration = end - start
     gaps = np.diff([start] + during + [end])
-    print(f"\nGIL: {len(during)} ticks of the other thread during a {duration:.2f} s model; largest gap {gaps.max() * 1000:.0f} ms")
-    assert duration > 0.2
+    print(f"\nGIL: {len(during)} ticks of the other thread during {models} model(s) in {duration:.2f} s; largest gap {gaps.max() * 1000:.0f} ms")
     assert len(during) > 0.3 * duration / 0.0011  # it ran most of the time
-    assert gaps.max() < 0.5 * duration
+    assert gaps.max() < 0.5 * duration / models  # never held for most of one model
 
 
 def test_wrap_progress_and_cancel():
