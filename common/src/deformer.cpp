@@ -326,7 +326,7 @@ class Deformer {
  private:
   bool run_cycle(int cycle);
   void compute_face_normals();
-  double face_area(Mesh::FaceHandle f) const;  // mm^2
+  double face_area(Mesh::FaceHandle f) const { return gdm::face_area(mesh_, f); }  // mm^2
   VertexNeighbourhood neighbourhood(Mesh::VertexHandle v) const;
   std::vector<int> evaluate_active(std::vector<StepResult>& steps);
   std::size_t apply_moves(const std::vector<int>& candidates, const std::vector<StepResult>& steps,
@@ -891,8 +891,6 @@ std::size_t Deformer::resample(int cycle) {
   return splits;
 }
 
-double Deformer::face_area(Mesh::FaceHandle f) const { return 0.5 * face_area_normal(mesh_, f).norm(); }
-
 // Whether face f spans the mouth of a channel narrower than itself: at some
 // of the points of the face (a grid about half a voxel apart), but at most
 // half of them, the image is on the free side one and two voxels ahead along
@@ -1067,10 +1065,7 @@ bool Deformer::in_the_open(const Vec3& p) const {
 // looks into (channel_width.h), between the finest local size and the level
 // of detail's.
 double Deformer::width_area(Mesh::VertexHandle v) const {
-  Vec3 normal = Vec3::Zero();
-  for (auto f : mesh_.vf_range(v)) {
-    normal += face_area_normal(mesh_, f);
-  }
+  const Vec3 normal = vertex_area_normal(mesh_, v);
   // Only a vertex that looks into free room ahead (the model's front in a
   // channel or a sheet): one made against a wall, at a mouth's rim say,
   // keeps the faces the mouth asked for, or the mouth is never entered.
@@ -1760,10 +1755,7 @@ Deformer::PleatMasks Deformer::find_pleats() const {
 // closed while the caller's is free (an opening narrower than the gap).
 bool Deformer::held_by_gate(Mesh::VertexHandle v) const {
   const Vec3 p = to_eigen(mesh_.point(v));
-  Vec3 normal = Vec3::Zero();
-  for (auto f : mesh_.vf_range(v)) {
-    normal += face_area_normal(mesh_, f);
-  }
+  const Vec3 normal = vertex_area_normal(mesh_, v);
   if (!(normal.norm() > 0.0)) return false;
   const double sense = o_.mode == Mode::grow ? 1.0 : -1.0;
   const Vec3 ahead = p + (sense * 0.75 * voxel_ / normal.norm()) * normal;

@@ -11,7 +11,6 @@ namespace {
 
 Vec3 pos(const Mesh& mesh, Mesh::VertexHandle v) { return to_eigen(mesh.point(v)); }
 
-double face_area(const Mesh& mesh, Mesh::FaceHandle f) { return 0.5 * face_area_normal(mesh, f).norm(); }
 
 double angle_at(const Vec3& apex, const Vec3& p, const Vec3& q) {
   const Vec3 u = p - apex, w = q - apex;
@@ -170,8 +169,7 @@ std::size_t relax(Mesh& mesh, const std::vector<Mesh::VertexHandle>& vertices, b
       if (n == 0) continue;
       Vec3 step = fraction * (centroid / n - p);
       if (tangential) {
-        Vec3 normal = Vec3::Zero();
-        for (auto f : mesh.vf_range(v)) normal += face_area_normal(mesh, f);
+        Vec3 normal = vertex_area_normal(mesh, v);
         if (!(normal.norm() > 0.0)) continue;
         normal.normalize();
         step -= step.dot(normal) * normal;

@@ -190,7 +190,6 @@ namespace {
 
 Vec3 pos(const Mesh& mesh, Mesh::VertexHandle v) { return to_eigen(mesh.point(v)); }
 
-
 // Per-thread scratch of the per-vertex kernels below: they run for every
 // vertex of every pass, and their lists were allocated afresh each time.
 struct Scratch {

@@ -32,6 +32,16 @@ inline Vec3 face_area_normal(const Mesh& mesh, Mesh::FaceHandle f) {
   return (b - a).cross(c - a);
 }
 
+inline double face_area(const Mesh& mesh, Mesh::FaceHandle f) { return 0.5 * face_area_normal(mesh, f).norm(); }
+
+// The area-weighted normal at v: its faces' face_area_normal() summed in the
+// mesh's order around v (not normalised; zero for an isolated vertex).
+inline Vec3 vertex_area_normal(const Mesh& mesh, Mesh::VertexHandle v) {
+  Vec3 normal = Vec3::Zero();
+  for (auto f : mesh.vf_range(v)) normal += face_area_normal(mesh, f);
+  return normal;
+}
+
 }  // namespace gdm
 
 namespace gdm {
