@@ -4,6 +4,8 @@
 // started from it: the accuracy limits of the grown ones on the phantoms, no
 // seams where a grown model's front meets itself in a thin shell, the same
 // model for any thread count.
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -184,6 +186,101 @@ TEST(VoxelSeed, the_surface_faces_outward_on_a_mirrored_grid) {
   ASSERT_TRUE(seed.applied);
   expect_closed_genus_0_without_intersections(seed.mesh, "mirrored sphere");
   EXPECT_LT(seed.mesh.n_faces(), seed.surface_faces);  // reduced
+}
+
+namespace {
+
+// Is the point (physical) on the ball's voxel surface? Its corner
+// coordinates (continuous index + 1/2) put it on a grid plane of one axis,
+// inside a unit square there, between a voxel of the ball and one outside.
+bool on_voxel_surface(const VoxelBall& ball, const Volume& v, const Vec3& x) {
+  const Vec3 c = v.to_continuous_index(x) + Vec3::Constant(0.5);
+  const auto inside = [&](int i, int j, int k) {
+    const Index3& n = ball.dims;
+    if (i < 0 || j < 0 || k < 0 || i >= n[0] || j >= n[1] || k >= n[2]) return false;
+    return ball.inside[static_cast<std::size_t>(i) + static_cast<std::size_t>(n[0]) * (j + static_cast<std::size_t>(n[1]) * k)] != 0;
+  };
+  for (int a = 0; a < 3; ++a) {
+    if (std::abs(c[a] - std::round(c[a])) > 1e-7) continue;
+    Index3 lo, hi;
+    for (int b = 0; b < 3; ++b) lo[b] = hi[b] = static_cast<int>(std::floor(c[b]));
+    lo[a] = static_cast<int>(std::round(c[a])) - 1;
+    hi[a] = lo[a] + 1;
+    if (inside(lo[0], lo[1], lo[2]) != inside(hi[0], hi[1], hi[2])) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+// The flat vertices' removal before the reduction (remove_flat_vertices):
+// on the surfaces of a noisy sphere's ball, on a grid of 1 x 1 x 2 mm that
+// mirrors, and of a box, the vertices inside flat patches and on straight
+// creases go; what is left is the same point set (the same volume and
+// area, every vertex one of the voxel corners it had, points spread over
+// every new face on the voxels' surface), closed, genus 0, free of
+// self-intersection, no new angle below the floor.
+TEST(VoxelSeed, flat_vertices_go_and_the_surface_stays_the_same_point_set) {
+  ph::Grid round_grid;
+  round_grid.dims = {48, 48, 40};
+  ph::Grid mirrored_grid = round_grid;
+  mirrored_grid.spacing = Vec3(1.0, 1.0, 2.0);
+  mirrored_grid.direction(0, 0) = -1.0;
+  mirrored_grid.origin = Vec3(5, -6, 7);
+  struct Shape {
+    const char* name;
+    Volume volume;
+    Vec3 start;
+    double removed_share;  // at least this share of the vertices goes
+  };
+  const Vec3 c = round_grid.center(), m = mirrored_grid.center();
+  const std::vector<Shape> shapes = {
+      {"noisy sphere", ph::with_gaussian_noise(ph::voxelize(round_grid, ph::sphere(c, 15.0), kBackground, kContrast), 0.06 * kContrast, 904), c, 0.3},
+      {"sphere on a mirrored 1x1x2 grid", ph::voxelize(mirrored_grid, ph::sphere(m, 16.0), kBackground, kContrast), m, 0.3},
+      {"box", ph::voxelize(round_grid, ph::box(c - Vec3(9.3, 7.2, 6.4), c + Vec3(8.6, 9.1, 5.7)), kBackground, kContrast), c, 0.8},
+  };
+  for (const Shape& shape : shapes) {
+    const VoxelBall ball = grow_voxel_ball(shape.volume, seed_options(), voxel_of(shape.volume, shape.start));
+    const Mesh before = voxel_surface(ball, shape.volume);
+    Mesh after = before;
+    const std::size_t removed = remove_flat_vertices(after, shape.volume, 10.0);
+    std::printf("%s: %zu vertices, %zu removed, faces %zu -> %zu\n", shape.name, before.n_vertices(), removed,
+                before.n_faces(), after.n_faces());
+    EXPECT_GE(static_cast<double>(removed), shape.removed_share * static_cast<double>(before.n_vertices())) << shape.name;
+    EXPECT_EQ(after.n_vertices(), before.n_vertices() - removed) << shape.name;
+    EXPECT_EQ(after.n_faces(), before.n_faces() - 2 * removed) << shape.name;
+    expect_closed_genus_0_without_intersections(after, shape.name);
+    EXPECT_NEAR(enclosed_volume(after), enclosed_volume(before), 1e-9 * enclosed_volume(before)) << shape.name;
+    EXPECT_NEAR(surface_area(after), surface_area(before), 1e-9 * surface_area(before)) << shape.name;
+    EXPECT_GE(smallest_angle_degrees(after), 10.0 - 1e-9) << shape.name;
+    std::vector<std::array<double, 3>> corners;
+    for (auto v : before.vertices()) corners.push_back({before.point(v)[0], before.point(v)[1], before.point(v)[2]});
+    std::sort(corners.begin(), corners.end());
+    std::size_t foreign = 0, off = 0;
+    for (auto v : after.vertices())
+      foreign += !std::binary_search(corners.begin(), corners.end(), std::array<double, 3>{after.point(v)[0], after.point(v)[1], after.point(v)[2]});
+    for (auto f : after.faces()) {
+      std::array<Vec3, 3> p;
+      int i = 0;
+      for (auto w : after.fv_range(f)) p[static_cast<std::size_t>(i++)] = to_eigen(after.point(w));
+      for (const Vec3& b : {Vec3(Vec3::Constant(1.0 / 3.0)), Vec3(0.6, 0.3, 0.1), Vec3(0.1, 0.15, 0.75), Vec3(0.45, 0.1, 0.45)})
+        off += !on_voxel_surface(ball, shape.volume, b[0] * p[0] + b[1] * p[1] + b[2] * p[2]);
+    }
+    EXPECT_EQ(foreign, 0u) << shape.name << ": vertices that were no corner";
+    EXPECT_EQ(off, 0u) << shape.name << ": points of new faces off the voxels' surface";
+  }
+}
+
+// Only a voxel surface: on a mesh whose vertices are not at voxel corners
+// nothing is removed and nothing changes.
+TEST(VoxelSeed, flat_vertices_stay_on_a_mesh_off_the_voxel_corners) {
+  ph::Grid grid;
+  grid.dims = {24, 24, 24};
+  const Volume v = ph::voxelize(grid, ph::sphere(grid.center(), 8.0), kBackground, kContrast);
+  Mesh mesh = make_icosahedron(grid.center(), 5.0);
+  const std::size_t faces = mesh.n_faces();
+  EXPECT_EQ(remove_flat_vertices(mesh, v, 10.0), 0u);
+  EXPECT_EQ(mesh.n_faces(), faces);
 }
 
 // No seed point on the object's side: nothing is built (deform() then grows

@@ -94,14 +94,6 @@ Deviation triangle_deviation(const Vec3& a, const Vec3& b, const Vec3& c, const 
   return {std::abs(mean), largest, noise_mm, noise_mm > 0.0 ? noise_cells(volume, u, 0.5 * len) : 1.0};
 }
 
-double smallest_angle(const Vec3& a, const Vec3& b, const Vec3& c) {
-  const auto angle = [](const Vec3& apex, const Vec3& p, const Vec3& q) {
-    const Vec3 u = p - apex, w = q - apex;
-    return std::atan2(u.cross(w).norm(), u.dot(w));
-  };
-  return std::min({angle(a, b, c), angle(b, c, a), angle(c, a, b)}) * 180.0 / M_PI;
-}
-
 struct Tri {
   std::array<Vec3, 3> p;
   std::array<int, 3> id;

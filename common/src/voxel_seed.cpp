@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "gdm/distance_transform.h"
+#include "gdm/error_lod.h"
 #include "gdm/face_budget.h"
 #include "gdm/voxel_flood.h"
 #include "gdm/voxel_grid.h"
@@ -21,6 +22,9 @@ namespace {
 // Mean L1 norm of a unit normal over all directions: the cuberille's area
 // over the surface's own (a staircase's faces are the normal's projections).
 constexpr double kCuberilleAreaRatio = 1.5;
+// The flat vertices' removal keeps new angles at least this (degrees): the
+// reduction's own first floor (ReduceOptions::min_angle).
+constexpr double kFlatMinAngle = 10.0;
 // Voxels one step may take along with the one it adds to stay well-composed.
 constexpr int kMaxCompanions = 8;
 // The narrowest channel of background the ball leaves open, voxels.
@@ -396,6 +400,119 @@ Mesh voxel_surface(const VoxelBall& ball, const Volume& volume) {
   return mesh;
 }
 
+namespace {
+
+using Corner = std::array<std::int64_t, 3>;
+
+Corner minus(const Corner& a, const Corner& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+Corner cross(const Corner& a, const Corner& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+std::int64_t dot(const Corner& a, const Corner& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+bool is_zero(const Corner& a) { return a[0] == 0 && a[1] == 0 && a[2] == 0; }
+// Same direction and sense (both non-zero).
+bool same_sense(const Corner& a, const Corner& b) { return !is_zero(a) && is_zero(cross(a, b)) && dot(a, b) > 0; }
+
+}  // namespace
+
+std::size_t remove_flat_vertices(Mesh& mesh, const Volume& volume, double min_angle) {
+  // The corners' integer coordinates: voxel_surface puts corner (i, j, k)
+  // at continuous index (i, j, k) - 1/2.
+  std::vector<Corner> q(mesh.n_vertices());
+  for (auto v : mesh.vertices()) {
+    const Vec3 c = volume.to_continuous_index(to_eigen(mesh.point(v))) + Vec3::Constant(0.5);
+    for (int a = 0; a < 3; ++a) {
+      const double r = std::round(c[a]);
+      if (!(std::abs(c[a] - r) < 1e-6)) return 0;
+      q[static_cast<std::size_t>(v.idx())][static_cast<std::size_t>(a)] = static_cast<std::int64_t>(r);
+    }
+  }
+  // Face f's normal (twice its area, in corner units), vertex `from` read as `to`.
+  const auto normal = [&](Mesh::FaceHandle f, Mesh::VertexHandle from, Mesh::VertexHandle to) {
+    Corner p[3];
+    int i = 0;
+    for (auto w : mesh.fv_range(f)) p[i++] = q[static_cast<std::size_t>((w == from ? to : w).idx())];
+    return cross(minus(p[1], p[0]), minus(p[2], p[0]));
+  };
+  const auto point_of = [&](Mesh::FaceHandle f, Mesh::VertexHandle from, Mesh::VertexHandle to, Vec3 (&p)[3]) {
+    int i = 0;
+    for (auto w : mesh.fv_range(f)) p[i++] = to_eigen(mesh.point(w == from ? to : w));
+  };
+  mesh.request_vertex_status();
+  mesh.request_edge_status();
+  mesh.request_halfedge_status();
+  mesh.request_face_status();
+  std::vector<Corner> planes;                 // the distinct normal directions around a vertex
+  std::vector<Mesh::HalfedgeHandle> targets;  // the collapses tried for it
+  std::size_t removed = 0;
+  // A collapse refused (a fan that is not convex from any neighbour, an
+  // angle) may pass once its neighbours are gone: a second sweep.
+  for (int sweep = 0; sweep < 2; ++sweep) {
+    const std::size_t before = removed;
+    for (auto v0 : mesh.vertices()) {
+      if (mesh.status(v0).deleted()) continue;
+      planes.clear();
+      bool few = true;
+      for (auto f : mesh.vf_range(v0)) {
+        const Corner n = normal(f, v0, v0);
+        if (std::none_of(planes.begin(), planes.end(), [&](const Corner& m) { return same_sense(m, n); }))
+          planes.push_back(n);
+        if (planes.size() > 2) {
+          few = false;
+          break;
+        }
+      }
+      if (!few || planes.empty()) continue;
+      targets.clear();
+      const auto plane_of = [&](Mesh::FaceHandle f) { return same_sense(planes[0], normal(f, v0, v0)) ? 0 : 1; };
+      for (auto h : mesh.voh_range(v0)) {
+        if (planes.size() == 1 ||
+            plane_of(mesh.face_handle(h)) != plane_of(mesh.face_handle(mesh.opposite_halfedge_handle(h))))
+          targets.push_back(h);
+      }
+      if (planes.size() == 2) {
+        // On a crease: only along it, and only where it runs straight through v0.
+        if (targets.size() != 2) continue;
+        const Corner a = minus(q[static_cast<std::size_t>(mesh.to_vertex_handle(targets[0]).idx())], q[static_cast<std::size_t>(v0.idx())]);
+        const Corner b = minus(q[static_cast<std::size_t>(mesh.to_vertex_handle(targets[1]).idx())], q[static_cast<std::size_t>(v0.idx())]);
+        if (!is_zero(cross(a, b)) || dot(a, b) >= 0) continue;
+      }
+      for (const auto h : targets) {
+        if (!collapse_keeps_topology(mesh, h)) continue;
+        const auto v1 = mesh.to_vertex_handle(h);
+        const auto gone0 = mesh.face_handle(h), gone1 = mesh.face_handle(mesh.opposite_halfedge_handle(h));
+        bool keeps = true;
+        for (auto f : mesh.vf_range(v0)) {
+          if (f == gone0 || f == gone1) continue;
+          if (!same_sense(normal(f, v0, v0), normal(f, v0, v1))) {
+            keeps = false;
+            break;
+          }
+          Vec3 was[3], now[3];
+          point_of(f, v0, v0, was);
+          point_of(f, v0, v1, now);
+          const double floor = std::min(min_angle, smallest_angle(was[0], was[1], was[2]));
+          if (smallest_angle(now[0], now[1], now[2]) < floor) {
+            keeps = false;
+            break;
+          }
+        }
+        if (!keeps) continue;
+        mesh.collapse(h);
+        ++removed;
+        break;
+      }
+    }
+    if (removed == before) break;
+  }
+  mesh.garbage_collection();
+  mesh.release_vertex_status();
+  mesh.release_edge_status();
+  mesh.release_halfedge_status();
+  mesh.release_face_status();
+  return removed;
+}
+
 VoxelSeed make_voxel_seed(const Volume& volume, const VoxelSeedOptions& options, const std::vector<Vec3>& seed_points) {
   VoxelSeed seed;
   const Index3& n = volume.dims();
@@ -430,6 +547,7 @@ VoxelSeed make_voxel_seed(const Volume& volume, const VoxelSeedOptions& options,
   if (options.reduce && seed.mesh.n_faces() > 0) {
     double area = 0.0;
     for (auto f : seed.mesh.faces()) area += seed.mesh.calc_face_area(f);
+    remove_flat_vertices(seed.mesh, volume, kFlatMinAngle);
     const double voxel_area = volume.voxel_size() * volume.voxel_size();
     ReduceOptions r;
     r.threads = options.threads;

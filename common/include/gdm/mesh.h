@@ -2,6 +2,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
@@ -33,6 +34,16 @@ inline Vec3 face_area_normal(const Mesh& mesh, Mesh::FaceHandle f) {
 }
 
 inline double face_area(const Mesh& mesh, Mesh::FaceHandle f) { return 0.5 * face_area_normal(mesh, f).norm(); }
+
+// The smallest angle of triangle abc, degrees (atan2 of |u x w| and u . w:
+// accurate near 0 and 180 degrees).
+inline double smallest_angle(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const auto angle = [](const Vec3& apex, const Vec3& p, const Vec3& q) {
+    const Vec3 u = p - apex, w = q - apex;
+    return std::atan2(u.cross(w).norm(), u.dot(w));
+  };
+  return std::min({angle(a, b, c), angle(b, c, a), angle(c, a, b)}) * 180.0 / 3.14159265358979323846;
+}
 
 // The area-weighted normal at v: its faces' face_area_normal() summed in the
 // mesh's order around v (not normalised; zero for an isolated vertex).

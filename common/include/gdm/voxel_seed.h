@@ -74,6 +74,20 @@ std::size_t critical_configurations(const std::vector<char>& set, const Index3& 
 // well-composed and a ball.
 Mesh voxel_surface(const VoxelBall& ball, const Volume& volume);
 
+// The vertices of a voxel surface (voxel_surface's, on `volume`'s grid)
+// inside a flat patch of voxel faces, or on a straight crease between two
+// such patches, removed by halfedge collapses that leave the surface the
+// same point set: each moved face keeps its plane and its orientation
+// there, which the corners' integer coordinates decide exactly. The faces
+// of a patch then tile the same polygon, so nothing can come to intersect
+// and no guard is asked. No new angle below `min_angle` degrees (or below
+// the face's own smallest, when lower). Returns the vertices removed (0,
+// the mesh untouched, when a vertex is not at a voxel corner);
+// garbage-collects the mesh. Before the reduction (issue 17): on the T1
+// head a fifth of the cuberille's vertices are inside flat patches and a
+// third on straight creases; the guarded reduction spent 25 us a collapse.
+std::size_t remove_flat_vertices(Mesh& mesh, const Volume& volume, double min_angle);
+
 struct VoxelSeed {
   bool applied = false;          // false: no seed point lies on the object's side of T inside the grid
   Mesh mesh;                     // the seed (closed, 2-manifold, genus 0, no self-intersection)
