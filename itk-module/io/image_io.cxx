@@ -221,6 +221,23 @@ void check_metaimage_grammar(const std::string& path) {
   throw InvalidInput(path + " is not a well-formed MetaImage header: no ElementDataFile line ends it");
 }
 
+// A MetaImage data file pattern that snprintf may take as its format with
+// one int argument: exactly one "%d" or "%i" (an optional 0 flag, a width of
+// at most 3 digits), any number of "%%", no other '%'.
+bool is_integer_name_pattern(const std::string& pattern) {
+  int fields = 0;
+  for (std::size_t i = 0; i < pattern.size(); ++i) {
+    if (pattern[i] != '%') continue;
+    if (++i < pattern.size() && pattern[i] == '%') continue;
+    if (i < pattern.size() && pattern[i] == '0') ++i;
+    std::size_t digits = 0;
+    while (i < pattern.size() && std::isdigit(static_cast<unsigned char>(pattern[i])) && digits < 4) ++i, ++digits;
+    if (digits > 3 || i >= pattern.size() || (pattern[i] != 'd' && pattern[i] != 'i')) return false;
+    ++fields;
+  }
+  return fields == 1;
+}
+
 // MetaImage (.mha/.mhd): spacing, and the data size of uncompressed data.
 void check_metaimage(const std::string& path, unsigned long long voxels, long double expected) {
   std::ifstream in(path, std::ios::binary);
@@ -292,6 +309,15 @@ void check_metaimage(const std::string& path, unsigned long long voxels, long do
     if (!numbers || step <= 0 || !ordered)
       throw InvalidInput(path + ": its data file pattern '" + data_field +
                          "' is not '<pattern> <first> <last> <step>' with integers, first <= last and step > 0");
+    // MetaIO hands the pattern to snprintf as its format with one int: a
+    // format of the file's choosing ("%L", "%s", "%n") is undefined
+    // behaviour (found by the CI fuzz run: "LOCJA%L" stopped AddressSanitizer
+    // inside MetaIO). Only one integer field, "%d" or "%i" with an optional
+    // 0 flag and a width of up to 3 digits, and "%%" are accepted.
+    if (!is_integer_name_pattern(w.empty() ? std::string() : w[0]))
+      throw InvalidInput(path + ": its data file pattern '" + data_field +
+                         "' is not a file name with one integer field such as slice%03d.raw (%d or %i, an optional 0 "
+                         "and width; %% for a percent sign)");
   }
   const std::string compressed = lower(fields["compresseddata"]);
   if (compressed == "true" || compressed == "1") return;  // sizes checked after reading (memory limit before)

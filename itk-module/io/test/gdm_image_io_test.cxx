@@ -628,6 +628,14 @@ TEST(Fuzz, MetaImageDataFileWithASpaceThatDoesNotExist) {
   expect_refused(dir / "step0.mhd", {"data file pattern 'slice%03d.raw 1 3 0'", "step > 0"});
   write_text(dir / "garbage.mhd", mha_header("5 4 3", "0.5 1 2", "MET_UCHAR", "LOC%lementDataFile = LOC%Jo"));
   expect_refused(dir / "garbage.mhd", {"data file pattern", "step > 0"});
+  // corpus/fuzz_image_reader/crash_mha_pattern_format_L: MetaIO gives the
+  // pattern to snprintf as its format; "%L" (no conversion) stopped
+  // AddressSanitizer inside MetaIO. Only one integer field is a pattern.
+  for (const char* pattern : {"LOCJA%L", "slice%s.raw 1 3 1", "slice%n.raw 1 3 1", "slice%d%d.raw 1 3 1",
+                              "slice%.3d.raw 1 3 1", "slice%01234d.raw 1 3 1", "slice%ld.raw 1 3 1", "slice%-3d.raw 1 3 1"}) {
+    write_text(dir / "format.mhd", mha_header("5 4 3", "0.5 1 2", "MET_UCHAR", pattern));
+    expect_refused(dir / "format.mhd", {"data file pattern", "one integer field"});
+  }
   write_text(dir / "backwards.mhd", mha_header("5 4 3", "0.5 1 2", "MET_UCHAR", "slice%03d.raw 3 1 1"));
   expect_refused(dir / "backwards.mhd", {"data file pattern", "first <= last"});
   // crash_mha_pattern_dimsize_nan: the step of "<pattern> <first> <last>" is
@@ -641,6 +649,13 @@ TEST(Fuzz, MetaImageDataFileWithASpaceThatDoesNotExist) {
   }
   write_text(dir / "pattern.mhd", mha_header("5 4 3", "0.5 1 2", "MET_UCHAR", "slice%03d.raw 1 3 1"));
   EXPECT_EQ(gdm::read_volume((dir / "pattern.mhd").string()).max_value(), 3.0);
+  for (int k = 1; k <= 3; ++k) {  // "%i", and a literal percent sign
+    char name[32];
+    std::snprintf(name, sizeof name, "s%%_%i.raw", k);
+    write_text(dir / name, std::string(20, static_cast<char>(k + 1)));
+  }
+  write_text(dir / "percent.mhd", mha_header("5 4 3", "0.5 1 2", "MET_UCHAR", "s%%_%i.raw 1 3 1"));
+  EXPECT_EQ(gdm::read_volume((dir / "percent.mhd").string()).max_value(), 4.0);
   // The same name present is read as one file.
   std::string voxels(60, '\x07');
   voxels[5] = '\x30';
