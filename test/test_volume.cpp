@@ -1,4 +1,6 @@
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -77,6 +79,45 @@ TEST(Volume, rejects_unusable_grids_with_a_clear_message) {
   }
   EXPECT_THROW(Volume({4, 4, 4}, std::vector<float>(64, 1.f), Vec3::Ones(), Vec3::Zero(), Eigen::Matrix3d::Zero()),
                gdm::InvalidVolume);
+}
+
+// value_range against a plain loop over the values: random buffers of
+// every length from 0 to 40 (the lanes' tail), with NaN and infinities
+// mixed in at random places, and the extremes at the first and last place.
+TEST(Volume, value_range_is_the_plain_loops_range) {
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<float> value(-1000.0f, 1000.0f);
+  std::uniform_int_distribution<int> kind(0, 9);
+  const float inf = std::numeric_limits<float>::infinity();
+  for (int round = 0; round < 20; ++round)
+    for (std::size_t n = 0; n <= 40; ++n) {
+      std::vector<float> v(n);
+      for (float& x : v) {
+        const int k = kind(rng);
+        x = k == 0 && round % 2 ? NAN : k == 1 && round % 3 == 0 ? inf : k == 2 && round % 5 == 0 ? -inf : value(rng);
+      }
+      if (n > 0 && round == 7) v.front() = 5000.0f;
+      if (n > 0 && round == 8) v.back() = -5000.0f;
+      float lo = inf, hi = -inf;
+      std::size_t bad = 0, nan = 0;
+      for (float x : v) {
+        if (!std::isfinite(x)) {
+          ++bad;
+          nan += std::isnan(x) ? 1 : 0;
+          continue;
+        }
+        lo = std::min(lo, x);
+        hi = std::max(hi, x);
+      }
+      const gdm::ValueRange r = gdm::value_range(v.data(), v.size());
+      EXPECT_EQ(r.min, lo) << n;
+      EXPECT_EQ(r.max, hi) << n;
+      EXPECT_EQ(r.non_finite, bad) << n;
+      EXPECT_EQ(r.nan, nan) << n;
+    }
+  const Volume v({3, 3, 3}, std::vector<float>{-2.5f, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 9.0f});
+  EXPECT_EQ(v.min_value(), -2.5);
+  EXPECT_EQ(v.max_value(), 9.0);
 }
 
 namespace {

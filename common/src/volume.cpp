@@ -51,19 +51,49 @@ Volume::Volume(Index3 dims, std::vector<float> values, Vec3 spacing, Vec3 origin
   to_index_ = to_physical_.inverse();
   voxel_size_ = spacing_.minCoeff();
 
-  std::size_t bad = 0;
-  min_value_ = std::numeric_limits<double>::infinity();
-  max_value_ = -std::numeric_limits<double>::infinity();
-  for (float v : values_) {
-    if (!std::isfinite(v)) {
-      ++bad;
-      continue;
-    }
-    min_value_ = std::min<double>(min_value_, v);
-    max_value_ = std::max<double>(max_value_, v);
+  const ValueRange range = value_range(values_.data(), values_.size());
+  if (range.non_finite > 0)
+    throw InvalidVolume("volume holds " + std::to_string(range.non_finite) + " NaN or infinite values");
+  min_value_ = range.min;
+  max_value_ = range.max;
+}
+
+ValueRange value_range(const float* values, std::size_t count) {
+  // Eight lanes, each a running min, max and count over every eighth value:
+  // a value that is not finite (|x| <= FLT_MAX is false for NaN and +-inf)
+  // leaves the lane's min and max as they were. Min and max commute, so the
+  // lanes' results combined are the plain loop's (up to the sign of a zero
+  // extreme, when 0 and -0 both occur).
+  constexpr std::size_t kLanes = 8;
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  float lo[kLanes], hi[kLanes];
+  std::size_t bad[kLanes] = {};
+  for (std::size_t k = 0; k < kLanes; ++k) {
+    lo[k] = kInf;
+    hi[k] = -kInf;
   }
-  if (bad > 0)
-    throw InvalidVolume("volume holds " + std::to_string(bad) + " NaN or infinite values");
+  const auto take = [&](std::size_t k, float x) {
+    const bool finite = std::abs(x) <= std::numeric_limits<float>::max();
+    bad[k] += finite ? 0 : 1;
+    lo[k] = finite && x < lo[k] ? x : lo[k];
+    hi[k] = finite && x > hi[k] ? x : hi[k];
+  };
+  std::size_t i = 0;
+  for (; i + kLanes <= count; i += kLanes)
+    for (std::size_t k = 0; k < kLanes; ++k) take(k, values[i + k]);
+  for (std::size_t k = 0; i < count; ++i, ++k) take(k, values[i]);
+  ValueRange r;
+  r.min = kInf;
+  r.max = -kInf;
+  for (std::size_t k = 0; k < kLanes; ++k) {
+    r.min = std::min(r.min, lo[k]);
+    r.max = std::max(r.max, hi[k]);
+    r.non_finite += bad[k];
+  }
+  // Only a volume that is refused needs its NaN counted.
+  if (r.non_finite > 0)
+    for (std::size_t j = 0; j < count; ++j) r.nan += std::isnan(values[j]) ? 1 : 0;
+  return r;
 }
 
 bool Volume::contains(const Vec3& physical, double margin_voxels) const {

@@ -625,7 +625,58 @@ itk::ImageIOBase::Pointer image_io_for(const std::string& path) {
   return io->CanReadFile(path.c_str()) ? io : nullptr;
 }
 
-Image::Pointer read_file(const std::string& path, const ReadOptions& options, ImageInfo& info) {
+// The values of `count` pixels of component type T at `raw`, as float
+// (static_cast, as ITK's ImageFileReader converts a scalar pixel).
+template <typename T>
+void convert_to_float(const char* raw, std::size_t count, float* out) {
+  const T* in = reinterpret_cast<const T*>(raw);
+  for (std::size_t i = 0; i < count; ++i) out[i] = static_cast<float>(in[i]);
+}
+
+// Reads the pixels of the IO's whole region (its header read) into `out`
+// (io's voxel count): straight into it for a float file, else through one
+// buffer of the file's type. Instead of ImageFileReader: its float image
+// was copied into the volume's values afterwards, two float copies of the
+// volume at once (a 512^3 volume of bytes peaked at 1.07 GB, issue 17's
+// memory target is its float size plus 1 KB a face).
+void read_pixels(itk::ImageIOBase& io, std::vector<float>& out) {
+  const unsigned int dims = io.GetNumberOfDimensions();
+  itk::ImageIORegion region(dims);
+  for (unsigned int d = 0; d < dims; ++d) {
+    region.SetIndex(d, 0);
+    region.SetSize(d, io.GetDimensions(d));
+  }
+  io.SetIORegion(region);
+  using Component = itk::IOComponentEnum;
+  const Component type = io.GetComponentType();
+  if (type == Component::FLOAT) {
+    io.Read(out.data());
+    return;
+  }
+  const std::unique_ptr<char[]> raw(new char[out.size() * io.GetComponentSize()]);
+  io.Read(raw.get());
+  switch (type) {
+    case Component::UCHAR: return convert_to_float<unsigned char>(raw.get(), out.size(), out.data());
+    case Component::CHAR: return convert_to_float<signed char>(raw.get(), out.size(), out.data());
+    case Component::USHORT: return convert_to_float<unsigned short>(raw.get(), out.size(), out.data());
+    case Component::SHORT: return convert_to_float<short>(raw.get(), out.size(), out.data());
+    case Component::UINT: return convert_to_float<unsigned int>(raw.get(), out.size(), out.data());
+    case Component::INT: return convert_to_float<int>(raw.get(), out.size(), out.data());
+    case Component::ULONG: return convert_to_float<unsigned long>(raw.get(), out.size(), out.data());
+    case Component::LONG: return convert_to_float<long>(raw.get(), out.size(), out.data());
+    case Component::ULONGLONG: return convert_to_float<unsigned long long>(raw.get(), out.size(), out.data());
+    case Component::LONGLONG: return convert_to_float<long long>(raw.get(), out.size(), out.data());
+    case Component::DOUBLE: return convert_to_float<double>(raw.get(), out.size(), out.data());
+    default:
+      throw InvalidInput("pixels of type " + itk::ImageIOBase::GetComponentTypeAsString(type) +
+                         " cannot be read as numbers");
+  }
+}
+
+// The file's pixels as float, its geometry into `info` (dims, spacing,
+// origin, direction as ImageFileReader gives them to a 3D image: the IO's
+// first three axes, with its default directions when it has more).
+std::vector<float> read_file(const std::string& path, const ReadOptions& options, ImageInfo& info) {
   check_header_first(path);
   itk::ImageIOBase::Pointer io = image_io_for(path);
   if (!io)
@@ -675,17 +726,20 @@ Image::Pointer read_file(const std::string& path, const ReadOptions& options, Im
   size.resize(3);
   check_memory(path, size, options);
 
-  auto reader = itk::ImageFileReader<Image>::New();
-  reader->SetImageIO(io);
-  reader->SetFileName(path);
+  for (unsigned int d = 0; d < 3; ++d) {
+    info.dims[d] = io->GetDimensions(d);
+    info.spacing[d] = io->GetSpacing(d);
+    info.origin[d] = io->GetOrigin(d);
+    const std::vector<double> axis = dims > 3 ? io->GetDefaultDirection(d) : io->GetDirection(d);
+    for (unsigned int c = 0; c < 3; ++c) info.direction[3 * c + d] = axis[c];  // column d: axis d
+  }
+  std::vector<float> values(static_cast<std::size_t>(voxels));
   try {
-    reader->Update();
+    read_pixels(*io, values);
   } catch (const itk::ExceptionObject& e) {
     throw InvalidInput("cannot read " + path + ": " + e.GetDescription());
   }
-  Image::Pointer image = reader->GetOutput();
-  image->DisconnectPipeline();
-  return image;
+  return values;
 }
 
 // ------------------------------------------------------ DICOM series --
@@ -915,6 +969,19 @@ Image::Pointer read_dicom_series(const std::string& folder, const ReadOptions& o
 
 }  // namespace
 
+// A DICOM series' image's pixels as float, its geometry into `info`.
+std::vector<float> take_pixels(Image::Pointer image, ImageInfo& info) {
+  const auto region = image->GetBufferedRegion();
+  for (unsigned int d = 0; d < 3; ++d) {
+    info.dims[d] = region.GetSize()[d];
+    info.spacing[d] = image->GetSpacing()[d];
+    info.origin[d] = image->GetOrigin()[d];
+    for (unsigned int c = 0; c < 3; ++c) info.direction[3 * d + c] = image->GetDirection()[d][c];
+  }
+  const float* values = image->GetBufferPointer();
+  return std::vector<float>(values, values + region.GetNumberOfPixels());
+}
+
 Volume read_volume(const std::string& path, const ReadOptions& options, ImageInfo* out) {
   ImageInfo local;
   ImageInfo& info = out ? *out : local;
@@ -923,9 +990,9 @@ Volume read_volume(const std::string& path, const ReadOptions& options, ImageInf
   if (path.empty()) throw InvalidInput("no input file given");
   struct stat s {};
   if (::stat(path.c_str(), &s) != 0) throw InvalidInput("no such file or folder: " + path);
-  Image::Pointer image;
+  std::vector<float> data;
   if (S_ISDIR(s.st_mode)) {
-    image = read_dicom_series(path, options, info);
+    data = take_pixels(read_dicom_series(path, options, info), info);  // ITK's image freed on return
   } else if (!S_ISREG(s.st_mode)) {
     const char* kind = S_ISFIFO(s.st_mode) ? "a FIFO (named pipe)"
                        : S_ISCHR(s.st_mode) ? "a character device"
@@ -935,17 +1002,9 @@ Volume read_volume(const std::string& path, const ReadOptions& options, ImageInf
     throw InvalidInput(path + " is " + std::string(kind) + ", not a regular file; gdm reads volume files and "
                        "DICOM folders");
   } else {
-    image = read_file(path, options, info);
+    data = read_file(path, options, info);
   }
 
-  const auto region = image->GetBufferedRegion();
-  const std::size_t count = region.GetNumberOfPixels();
-  for (unsigned int d = 0; d < 3; ++d) {
-    info.dims[d] = region.GetSize()[d];
-    info.spacing[d] = image->GetSpacing()[d];
-    info.origin[d] = image->GetOrigin()[d];
-    for (unsigned int c = 0; c < 3; ++c) info.direction[3 * d + c] = image->GetDirection()[d][c];
-  }
   for (unsigned int d = 0; d < 3; ++d) {
     if (info.dims[d] < 2)
       throw InvalidInput(path + " has only " + std::to_string(info.dims[d]) + " voxel along axis " +
@@ -954,30 +1013,16 @@ Volume read_volume(const std::string& path, const ReadOptions& options, ImageInf
       throw InvalidInput(path + " has an invalid spacing along axis " + std::to_string(d) + " (" +
                          number(info.spacing[d]) + ")");
   }
-  const float* values = image->GetBufferPointer();
-  std::size_t bad = 0, nan = 0;
-  float lo = std::numeric_limits<float>::infinity(), hi = -lo;
-  for (std::size_t i = 0; i < count; ++i) {
-    const float v = values[i];
-    if (!std::isfinite(v)) {
-      ++bad;
-      nan += std::isnan(v) ? 1 : 0;
-      continue;
-    }
-    lo = std::min(lo, v);
-    hi = std::max(hi, v);
-  }
-  if (bad > 0)
-    throw InvalidInput(path + " holds " + std::to_string(bad) + " non-finite voxels (" + std::to_string(nan) +
-                       " NaN, " + std::to_string(bad - nan) + " infinite) of " + std::to_string(count) +
-                       "; gdm needs finite values");
-  info.minimum = lo;
-  info.maximum = hi;
-  if (lo == hi)
-    throw InvalidVolume(path + " is constant (every voxel is " + std::to_string(lo) + "): nothing to segment");
+  const ValueRange range = value_range(data.data(), data.size());
+  if (range.non_finite > 0)
+    throw InvalidInput(path + " holds " + std::to_string(range.non_finite) + " non-finite voxels (" +
+                       std::to_string(range.nan) + " NaN, " + std::to_string(range.non_finite - range.nan) +
+                       " infinite) of " + std::to_string(data.size()) + "; gdm needs finite values");
+  info.minimum = range.min;
+  info.maximum = range.max;
+  if (range.min == range.max)
+    throw InvalidVolume(path + " is constant (every voxel is " + std::to_string(range.min) + "): nothing to segment");
 
-  std::vector<float> data(values, values + count);
-  image = nullptr;  // free ITK's copy before the volume checks its values
   Vec3 spacing, origin;
   Eigen::Matrix3d direction;
   for (int i = 0; i < 3; ++i) {

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <vector>
 
 #include <Eigen/Core>
@@ -12,6 +13,17 @@
 namespace gdm {
 
 using Index3 = std::array<int, 3>;
+
+// The finite values' range of a buffer, and how many are not finite.
+struct ValueRange {
+  float min = 0.0f, max = 0.0f;  // over the finite values (+inf / -inf when there is none)
+  std::size_t non_finite = 0;    // NaN or infinite values
+  std::size_t nan = 0;           // of them, NaN
+};
+// One pass in blocks of independent lanes, without a branch per value (a
+// 512^3 volume's check was a third of a second before a model began, issue
+// 17); the same range as a plain loop over the values.
+ValueRange value_range(const float* values, std::size_t count);
 
 // Voxel values are stored x fastest, then y, then z (ITK and MetaImage order).
 // Physical point p of continuous index i: p = origin + direction * (spacing .* i).

@@ -253,6 +253,59 @@ void expect_same(const gdm::Volume& v, const ShortImage* ref, const std::string&
   EXPECT_EQ(wrong, 0u) << what << ": voxel values differ";
 }
 
+// ITK's own reading of `path` as a float image (ImageFileReader), and
+// whether read_volume gives the same: every value bit for bit, and the
+// same dims, spacing, origin and direction. read_volume reads the pixels
+// through the file's ImageIO straight into the volume's values (issue 17:
+// one float copy of the volume instead of two), so what ImageFileReader
+// makes of a file is the reference.
+void expect_as_itk_reads(const fs::path& path) {
+  const std::string what = path.filename().string();
+  auto reader = itk::ImageFileReader<FloatImage>::New();
+  reader->SetFileName(path.string());
+  reader->Update();
+  const FloatImage* ref = reader->GetOutput();
+  gdm::ImageInfo info;
+  gdm::Volume v;
+  try {
+    v = gdm::read_volume(path.string(), {}, &info);
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << what << ": " << e.what();
+    return;
+  }
+  const auto size = ref->GetLargestPossibleRegion().GetSize();
+  for (int d = 0; d < 3; ++d) {
+    EXPECT_EQ(v.dims()[d], static_cast<int>(size[d])) << what;
+    EXPECT_EQ(v.spacing()[d], ref->GetSpacing()[d]) << what << " spacing " << d;
+    EXPECT_EQ(v.origin()[d], ref->GetOrigin()[d]) << what << " origin " << d;
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(v.direction()(d, c), ref->GetDirection()[d][c]) << what << " direction " << d << c;
+  }
+  ASSERT_EQ(v.values().size(), ref->GetLargestPossibleRegion().GetNumberOfPixels()) << what;
+  const float* p = ref->GetBufferPointer();
+  std::size_t wrong = 0;
+  for (std::size_t i = 0; i < v.values().size(); ++i)
+    wrong += std::memcmp(&v.values()[i], &p[i], sizeof(float)) == 0 ? 0 : 1;
+  EXPECT_EQ(wrong, 0u) << what << ": values differ from ITK's reading";
+}
+
+// The small volume's values as pixel type T, scaled to use T's range (the
+// integers beyond a float's 24 bits round, the doubles have fractions).
+template <typename T>
+typename itk::Image<T, 3>::Pointer typed_volume(double scale, double shift) {
+  const auto source = small_volume();
+  auto image = itk::Image<T, 3>::New();
+  image->SetRegions(source->GetLargestPossibleRegion());
+  image->SetSpacing(source->GetSpacing());
+  image->SetOrigin(source->GetOrigin());
+  image->SetDirection(source->GetDirection());
+  image->Allocate();
+  const short* from = source->GetBufferPointer();
+  T* to = image->GetBufferPointer();
+  for (std::size_t i = 0; i < source->GetLargestPossibleRegion().GetNumberOfPixels(); ++i)
+    to[i] = static_cast<T>(static_cast<double>(from[i] + 300) * scale + shift);
+  return image;
+}
+
 }  // namespace
 
 // ------------------------------------------------------------- formats --
@@ -294,6 +347,49 @@ TEST(Formats, EveryFormatReadsTheSameVolume) {
       EXPECT_EQ(info.series_uid.rfind("1.2.826.0.1.3680043.9.7433.2.2", 0), 0u) << info.series_uid;
     }
   }
+}
+
+// Every scalar pixel type a volume file holds, in the formats that hold it,
+// and a MetaImage with a fourth axis of one voxel, read as ITK's
+// ImageFileReader reads them (expect_as_itk_reads).
+TEST(Formats, EveryPixelTypeReadsAsItkReads) {
+  const fs::path dir = work_dir();
+  const auto both = [&](const auto& image, const std::string& name) {
+    for (const std::string ext : {".mha", ".nrrd", ".nii.gz"}) {
+      write(image.GetPointer(), dir / (name + ext), ext == ".nii.gz");
+      expect_as_itk_reads(dir / (name + ext));
+    }
+  };
+  both(typed_volume<unsigned char>(0.25, 0.0), "uchar");
+  both(typed_volume<signed char>(0.125, -64.0), "char");
+  both(typed_volume<unsigned short>(60.0, 1.0), "ushort");
+  both(typed_volume<short>(1.0, -300.0), "short");
+  both(typed_volume<unsigned int>(16777.0, 16777217.0), "uint");
+  both(typed_volume<int>(-16777.0, 3.0), "int");
+  both(typed_volume<float>(0.001, -0.25), "float");
+  both(typed_volume<double>(1e-7, 1.0 / 3.0), "double");
+  // A fourth axis of one voxel (the IO's region has four axes).
+  {
+    using Image4 = itk::Image<short, 4>;
+    auto image = Image4::New();
+    image->SetRegions(Image4::RegionType(Image4::SizeType{{5, 4, 3, 1}}));
+    image->Allocate();
+    for (std::size_t i = 0; i < 60; ++i) image->GetBufferPointer()[i] = static_cast<short>(7 * i - 100);
+    Image4::SpacingType spacing;
+    for (int d = 0; d < 4; ++d) spacing[d] = 0.5 + d;
+    image->SetSpacing(spacing);
+    write(image.GetPointer(), dir / "four.mha");
+    expect_as_itk_reads(dir / "four.mha");
+  }
+}
+
+// The shared folder's files read as ITK reads them (a NIfTI with a
+// left-right flip, MetaImages of bytes and shorts).
+TEST(RealData, EveryFileOfTheSharedFolderReadsAsItkReads) {
+  const fs::path data = fs::path(GDM_SHARED_DIR) / "data";
+  if (!fs::is_directory(data)) GTEST_SKIP() << "no real data: " << data << " is absent";
+  for (const std::string f : {"tooth/tooth.mhd", "mri-head-t1/chris_t1.nii.gz", "mri-epi/mha.mha", "neghip/neghip.mhd"})
+    if (fs::exists(data / f)) expect_as_itk_reads(data / f);
 }
 
 TEST(Formats, MissingFileAndUnknownSeries) {
