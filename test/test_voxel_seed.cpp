@@ -285,6 +285,76 @@ TEST(VoxelSeed, flat_vertices_stay_on_a_mesh_off_the_voxel_corners) {
 
 // No seed point on the object's side: nothing is built (deform() then grows
 // from the seed as without the option).
+// The ball grown in a crop of the grid around the object's region
+// (VoxelSeedOptions::crop, issue 17: the seed's work follows the object, not
+// the grid) is the whole grid's: the same seed mesh, vertex for vertex and
+// face for face, and the same volume to grow in. Spacings of powers of two
+// keep the distance transform's arithmetic exact in both (it works in the
+// grid's coordinates); a noisy branching shape on 1 x 1 x 2 mm voxels, a
+// small noisy sphere in a large grid of 0.5 mm voxels, an ellipsoid on the
+// grid's border (the crop is cut by the grid there).
+TEST(VoxelSeed, the_ball_grown_in_a_crop_is_the_whole_grids) {
+  struct Input {
+    std::string name;
+    Volume volume;
+    Vec3 seed;
+  };
+  std::vector<Input> inputs;
+  {
+    ph::Grid grid;
+    grid.dims = {64, 64, 40};
+    grid.spacing = Vec3(1.0, 1.0, 2.0);
+    const Vec3 c = grid.center();
+    inputs.push_back({"branching, 1 x 1 x 2 mm",
+                      ph::with_gaussian_noise(ph::voxelize(grid, ph::branching(c), kBackground, kContrast), 0.06 * kContrast, 911),
+                      c + Vec3(0, 0, 10)});
+  }
+  {
+    ph::Grid grid;
+    grid.dims = {96, 80, 72};
+    grid.spacing = Vec3::Constant(0.5);
+    grid.origin = Vec3(-3.0, 4.0, 5.5);
+    const Vec3 c = grid.center() + Vec3(2.0, -3.0, 1.0);
+    inputs.push_back({"small sphere in a large grid",
+                      ph::with_gaussian_noise(ph::voxelize(grid, ph::sphere(c, 5.0), kBackground, kContrast), 0.05 * kContrast, 912),
+                      c});
+  }
+  {
+    ph::Grid grid;
+    grid.dims = {48, 48, 48};
+    const Vec3 c(10.0, 24.0, 30.0);
+    inputs.push_back({"ellipsoid cut by the grid's side",
+                      ph::voxelize(grid, ph::ellipsoid(c, Vec3(14.0, 8.0, 6.0)), kBackground, kContrast), c});
+  }
+  for (const Input& in : inputs) {
+    VoxelSeedOptions whole = seed_options();
+    whole.crop = false;
+    const VoxelSeed cropped = make_voxel_seed(in.volume, seed_options(), {in.seed});
+    const VoxelSeed reference = make_voxel_seed(in.volume, whole, {in.seed});
+    ASSERT_TRUE(cropped.applied && reference.applied) << in.name;
+    EXPECT_TRUE(cropped.cropped) << in.name;
+    EXPECT_FALSE(reference.cropped) << in.name;
+    EXPECT_EQ(cropped.voxels, reference.voxels) << in.name;
+    EXPECT_EQ(cropped.left_out, reference.left_out) << in.name;
+    EXPECT_EQ(cropped.background_voxels, reference.background_voxels) << in.name;
+    EXPECT_EQ(cropped.surface_faces, reference.surface_faces) << in.name;
+    ASSERT_EQ(cropped.mesh.n_vertices(), reference.mesh.n_vertices()) << in.name;
+    ASSERT_EQ(cropped.mesh.n_faces(), reference.mesh.n_faces()) << in.name;
+    std::size_t moved = 0, renumbered = 0;
+    for (auto v : reference.mesh.vertices())
+      moved += cropped.mesh.point(v) == reference.mesh.point(v) ? 0 : 1;
+    for (auto f : reference.mesh.faces()) {
+      auto a = reference.mesh.cfv_begin(f), b = cropped.mesh.cfv_begin(Mesh::FaceHandle(f.idx()));
+      for (int k = 0; k < 3; ++k, ++a, ++b) renumbered += a->idx() == b->idx() ? 0 : 1;
+    }
+    EXPECT_EQ(moved, 0u) << in.name;
+    EXPECT_EQ(renumbered, 0u) << in.name;
+    EXPECT_TRUE(cropped.grow_in.values() == reference.grow_in.values()) << in.name;
+    std::printf("%s: ball %zu voxels, seed %zu faces, the same in the crop\n", in.name.c_str(), cropped.voxels,
+                cropped.mesh.n_faces());
+  }
+}
+
 TEST(VoxelSeed, no_seed_point_in_the_object_builds_nothing) {
   ph::Grid grid;
   grid.dims = {24, 24, 24};

@@ -2152,7 +2152,9 @@ DeformResult deform(Mesh& mesh, const Volume& volume, const DeformOptions& reque
   if (coarse.cancelled)
     result.reason = StopReason::cancelled;
   else
-    result = Deformer(mesh, voxel.applied ? voxel.grow_in : grow_in, volume, run_options, observer).run(coarse.cycles);
+    result = Deformer(mesh, voxel.applied && voxel.grow_in.voxel_count() > 0 ? voxel.grow_in : grow_in, volume,
+                      run_options, observer)
+                 .run(coarse.cycles);
   result.voxel_seed = voxel.applied;
   result.voxel_seed_voxels = voxel.voxels;
   result.voxel_seed_background = voxel.background_voxels;

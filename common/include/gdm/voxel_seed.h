@@ -40,13 +40,17 @@ struct VoxelSeedOptions {
   bool reduce = true;            // false: the voxels' faces as they are (two triangles per voxel face)
   int threads = 0;               // workers for the distance transform and the reduction's checks (0 = all
                                  // cores); the seed does not depend on it
+  bool crop = true;              // grow the ball in a crop of the grid around the object's region (the
+                                 // same ball: the crop is used only where it gives the whole grid's);
+                                 // false = on the whole grid
 };
 
 // The ball of voxels grown from one voxel (what make_voxel_seed meshes).
 struct VoxelBall {
-  Index3 dims{0, 0, 0};          // the volume's grid
-  std::vector<char> inside;      // 1 for the ball's voxels, x fastest
-  std::vector<char> region;      // 1 for the start's 6-connected object region it grew in, x fastest
+  Index3 dims{0, 0, 0};          // its box of the volume's grid (the whole grid, or a crop)
+  Index3 offset{0, 0, 0};        // the box's first voxel in the volume's grid
+  std::vector<char> inside;      // 1 for the ball's voxels, x fastest (over dims)
+  std::vector<char> region;      // 1 for the start's 6-connected object region it grew in, x fastest (over dims)
   std::size_t voxels = 0;        // the ball's voxels
   std::size_t background_voxels = 0;  // of them, voxels on the background's side of T: in slits and
                                       // canals narrower than two voxels, or taken to keep it well-composed
@@ -95,9 +99,11 @@ struct VoxelSeed {
   std::size_t background_voxels = 0;
   std::size_t left_out = 0;
   std::size_t surface_faces = 0;  // faces of voxel_surface before the reduction
+  bool cropped = false;           // the ball was grown in a crop of the grid (VoxelSeedOptions::crop)
   Volume grow_in;                // what the model grows in: the volume given, its object voxels outside
                                  // the ball's region (other objects, specks not 6-connected to it)
-                                 // mirrored across T (outside_region_mirrored)
+                                 // mirrored across T (outside_region_mirrored); empty when there is
+                                 // none: the model grows in the volume given
 };
 
 // `volume` with its object voxels outside `region` (x fastest) mirrored
