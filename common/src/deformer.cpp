@@ -326,7 +326,6 @@ class Deformer {
  private:
   bool run_cycle(int cycle);
   void compute_face_normals();
-  double face_area(Mesh::FaceHandle f) const { return gdm::face_area(mesh_, f); }  // mm^2
   VertexNeighbourhood neighbourhood(Mesh::VertexHandle v) const;
   std::vector<int> evaluate_active(std::vector<StepResult>& steps);
   std::size_t apply_moves(const std::vector<int>& candidates, const std::vector<StepResult>& steps,
@@ -850,7 +849,7 @@ std::size_t Deformer::resample(int cycle) {
       [&](Mesh::FaceHandle f, Mesh::HalfedgeHandle) {
         double target = 0.0;  // fine only where all three corners are
         for (auto v : mesh_.fv_range(f)) target = std::max(target, local_area_[v.idx()]);
-        return face_area(f) > target;
+        return gdm::face_area(mesh_, f) > target;
       },
       &face_flags_);
   grow_per_vertex_state();
@@ -1040,7 +1039,7 @@ void Deformer::ask_around_held_vertices(double finest, std::vector<char>& at_mou
     const double floor = area_for_width(width, w, finest, coarse);
     for (auto f : mesh_.vf_range(v)) {
       const std::size_t i = static_cast<std::size_t>(f.idx());
-      const double area = face_area(f);
+      const double area = gdm::face_area(mesh_, f);
       if (!(area > kAskAboveFinest * finest) || !(area > floor)) continue;
       floor_area[i] = at_mouth[i] ? std::min(floor_area[i], floor) : floor;
       at_mouth[i] = 1;
@@ -1155,7 +1154,7 @@ std::size_t Deformer::refine_where_blocked(int cycle) {
     floor_verdict_[i] = finest;
     const Mesh::FaceHandle f(static_cast<int>(i));
     if (mesh_.has_face_status() && mesh_.status(f).deleted()) return;
-    const double area = face_area(f);
+    const double area = gdm::face_area(mesh_, f);
     thread_local std::vector<Vec3> free_points;
     if (!(area > kAskAboveFinest * finest)) return;
     // The face spans the mouth of a channel: its corners stand on the wall
@@ -1185,7 +1184,7 @@ std::size_t Deformer::refine_where_blocked(int cycle) {
   if (!asking.empty()) std::fill(active_.begin(), active_.end(), 0);
   for (int i : asking) {
     const Mesh::FaceHandle f(i);
-    const double target = std::max(floor_area[static_cast<std::size_t>(i)], 0.25 * face_area(f));
+    const double target = std::max(floor_area[static_cast<std::size_t>(i)], 0.25 * gdm::face_area(mesh_, f));
     for (auto v : mesh_.fv_range(f)) {
       local_area_[v.idx()] = std::min(local_area_[v.idx()], target);
       activate_around(v);
