@@ -30,12 +30,33 @@ constexpr int kMaxCompanions = 8;
 // The narrowest channel of background the ball leaves open, voxels.
 constexpr double kChannelWidth = 2.0;
 
+// Whether a value lies on the object's side of T (in double, as every
+// decision of the seed reads it).
+bool on_object_side(const VoxelSeedOptions& o, double v) { return o.object_brighter ? v > o.threshold : v < o.threshold; }
+
+// The object the model grows in: the start's 6-connected region, as the
+// cavity fill sees it (cavities.h; its handles are capped there). Object
+// voxels joined to it only by an edge or a corner would bring handles the
+// fill never saw: they count as background for the ball.
+std::vector<char> object_region(const Volume& volume, const VoxelSeedOptions& o, const Index3& start) {
+  const VoxelGrid grid{volume.dims()};
+  const std::vector<float>& values = volume.values();
+  const auto object = [&](std::size_t c) { return on_object_side(o, values[c]); };
+  std::vector<char> region(grid.count(), 0);
+  const std::size_t s = grid.index(start[0], start[1], start[2]);
+  if (object(s)) {
+    region[s] = 1;
+    flood_by_runs(grid.n, false, region, {s}, object);
+  }
+  return region;
+}
+
 class BallGrower {
  public:
-  BallGrower(const Volume& volume, const VoxelSeedOptions& o, const Index3& start)
-      : grid_{volume.dims()}, offset_(neighbour_offsets(grid_.n)) {
+  // `region`: object_region(volume, o, start).
+  BallGrower(const Volume& volume, const VoxelSeedOptions& o, std::vector<char> region)
+      : grid_{volume.dims()}, offset_(neighbour_offsets(grid_.n)), region_(std::move(region)) {
     classify(volume, o);
-    region_ = region_of(start);
     // Depth: the distance to the nearest voxel outside the region (the
     // background, and object voxels the region does not hold, which count as
     // background here): its nearest such voxel lies in the region's box grown
@@ -98,24 +119,7 @@ class BallGrower {
   // The voxels on the background's side of T.
   void classify(const Volume& volume, const VoxelSeedOptions& o) {
     background_.assign(volume.voxel_count(), 0);
-    for (std::size_t c = 0; c < background_.size(); ++c) {
-      const double v = volume.values()[c];
-      background_[c] = o.object_brighter ? !(v > o.threshold) : !(v < o.threshold);
-    }
-  }
-
-  // The object the model grows in: the start's 6-connected region, as the
-  // cavity fill sees it (cavities.h; its handles are capped there). Object
-  // voxels joined to it only by an edge or a corner would bring handles the
-  // fill never saw: they count as background here.
-  std::vector<char> region_of(const Index3& start) const {
-    std::vector<char> region(background_.size(), 0);
-    const std::size_t s = index(start[0], start[1], start[2]);
-    if (!background_[s]) {
-      region[s] = 1;
-      flood_by_runs(grid_.n, false, region, {s}, [&](std::size_t c) { return !background_[c]; });
-    }
-    return region;
+    for (std::size_t c = 0; c < background_.size(); ++c) background_[c] = !on_object_side(o, volume.values()[c]);
   }
 
   // The region and the thin background may be taken as they come; other
@@ -290,7 +294,7 @@ class BallGrower {
   std::priority_queue<Entry> queue_;
   SimplePointTest test_;
   std::vector<char> background_;  // the voxels on the background's side of T
-  std::vector<char> region_;      // the start's 6-connected object region (region_of)
+  std::vector<char> region_;      // the start's 6-connected object region (object_region)
 };
 
 }  // namespace
@@ -307,7 +311,7 @@ class BallGrower {
 // the clean and Gaussian cases within 0.004, the real scans within 0.003).
 Volume outside_region_mirrored(const Volume& volume, const VoxelSeedOptions& o, const std::vector<char>& region) {
   std::vector<float> values = volume.values();
-  const auto object = [&](double v) { return o.object_brighter ? v > o.threshold : v < o.threshold; };
+  const auto object = [&](double v) { return on_object_side(o, v); };
   const float away = o.object_brighter ? -std::numeric_limits<float>::infinity() : std::numeric_limits<float>::infinity();
   for (std::size_t c = 0; c < values.size(); ++c) {
     if (!object(values[c]) || region[c]) continue;
@@ -321,7 +325,7 @@ Volume outside_region_mirrored(const Volume& volume, const VoxelSeedOptions& o, 
 }
 
 VoxelBall grow_voxel_ball(const Volume& volume, const VoxelSeedOptions& options, const Index3& start) {
-  return BallGrower(volume, options, start).grow(start);
+  return BallGrower(volume, options, object_region(volume, options, start)).grow(start);
 }
 
 std::size_t critical_configurations(const std::vector<char>& set, const Index3& n) {
@@ -527,24 +531,6 @@ std::size_t remove_flat_vertices(Mesh& mesh, const Volume& volume, double min_an
 
 namespace {
 
-// The start's 6-connected region of the object's voxels (BallGrower's
-// region_of), on the whole grid.
-std::vector<char> object_region(const Volume& volume, const VoxelSeedOptions& o, const Index3& start) {
-  const VoxelGrid grid{volume.dims()};
-  const std::vector<float>& values = volume.values();
-  const auto object = [&](std::size_t c) {
-    const double v = values[c];
-    return o.object_brighter ? v > o.threshold : v < o.threshold;
-  };
-  std::vector<char> region(grid.count(), 0);
-  const std::size_t s = grid.index(start[0], start[1], start[2]);
-  if (object(s)) {
-    region[s] = 1;
-    flood_by_runs(grid.n, false, region, {s}, object);
-  }
-  return region;
-}
-
 // How far the region's box is grown for the crop the ball grows in, and how
 // far from a side of the crop inside the grid every voxel of the ball must
 // stay for the crop's ball to be the whole grid's, voxels. What a step of
@@ -644,13 +630,12 @@ VoxelSeed make_voxel_seed(const Volume& volume, const VoxelSeedOptions& options,
   VoxelBall ball;
   if (options.crop) ball = grow_in_box(volume, options, start, region);
   seed.cropped = ball.dims[0] > 0;
-  if (!seed.cropped) ball = grow_voxel_ball(volume, options, start);
+  if (!seed.cropped) ball = BallGrower(volume, options, region).grow(start);
   // A copy of the volume only when some object voxel lies outside the
   // region (a 512^3 grid's copy was half the seed's time and a third of the
   // run's peak memory for an object alone in it).
-  const auto object = [&](float v) { return options.object_brighter ? v > options.threshold : v < options.threshold; };
   bool elsewhere = false;
-  for (std::size_t c = 0; c < region.size() && !elsewhere; ++c) elsewhere = !region[c] && object(volume.values()[c]);
+  for (std::size_t c = 0; c < region.size() && !elsewhere; ++c) elsewhere = !region[c] && on_object_side(options, volume.values()[c]);
   if (elsewhere) seed.grow_in = outside_region_mirrored(volume, options, region);
   seed.voxels = ball.voxels;
   seed.background_voxels = ball.background_voxels;

@@ -639,7 +639,7 @@ void convert_to_float(const char* raw, std::size_t count, float* out) {
 // was copied into the volume's values afterwards, two float copies of the
 // volume at once (a 512^3 volume of bytes peaked at 1.07 GB, issue 17's
 // memory target is its float size plus 1 KB a face).
-void read_pixels(itk::ImageIOBase& io, std::vector<float>& out) {
+void read_pixels(const std::string& path, itk::ImageIOBase& io, std::vector<float>& out) {
   const unsigned int dims = io.GetNumberOfDimensions();
   itk::ImageIORegion region(dims);
   for (unsigned int d = 0; d < dims; ++d) {
@@ -668,8 +668,8 @@ void read_pixels(itk::ImageIOBase& io, std::vector<float>& out) {
     case Component::LONGLONG: return convert_to_float<long long>(raw.get(), out.size(), out.data());
     case Component::DOUBLE: return convert_to_float<double>(raw.get(), out.size(), out.data());
     default:
-      throw InvalidInput("pixels of type " + itk::ImageIOBase::GetComponentTypeAsString(type) +
-                         " cannot be read as numbers");
+      throw InvalidInput("cannot read " + path + ": its pixels are of type " +
+                         itk::ImageIOBase::GetComponentTypeAsString(type) + ", not numbers gdm reads");
   }
 }
 
@@ -735,7 +735,7 @@ std::vector<float> read_file(const std::string& path, const ReadOptions& options
   }
   std::vector<float> values(static_cast<std::size_t>(voxels));
   try {
-    read_pixels(*io, values);
+    read_pixels(path, *io, values);
   } catch (const itk::ExceptionObject& e) {
     throw InvalidInput("cannot read " + path + ": " + e.GetDescription());
   }
