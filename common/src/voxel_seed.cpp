@@ -572,17 +572,23 @@ VoxelBall grow_in_box(const Volume& volume, const VoxelSeedOptions& o, const Ind
     hi[a] = std::min(n[a] - 1, hi[a] + kCropMargin);
     size[a] = hi[a] - lo[a] + 1;
   }
-  if (static_cast<std::size_t>(size[0]) * size[1] * size[2] >= grid.count()) return {};
+  if (static_cast<std::size_t>(size[0]) * size[1] * size[2] >= grid.count()) return {};  // no smaller than the grid
+  // The crop's values and its part of the region (the whole region: it
+  // lies inside the crop, so flooding the crop again would give the same).
+  const std::size_t count = static_cast<std::size_t>(size[0]) * size[1] * size[2];
   std::vector<float> values;
-  values.reserve(static_cast<std::size_t>(size[0]) * size[1] * size[2]);
+  std::vector<char> part_region;
+  values.reserve(count);
+  part_region.reserve(count);
   for (int k = lo[2]; k <= hi[2]; ++k)
     for (int j = lo[1]; j <= hi[1]; ++j) {
-      const float* row = volume.values().data() + grid.index(lo[0], j, k);
-      values.insert(values.end(), row, row + size[0]);
+      const std::size_t row = grid.index(lo[0], j, k);
+      values.insert(values.end(), volume.values().data() + row, volume.values().data() + row + size[0]);
+      part_region.insert(part_region.end(), region.data() + row, region.data() + row + size[0]);
     }
   // Only the grid's shape and spacing matter to the growth, not where it lies.
   const Volume part(size, std::move(values), volume.spacing(), Vec3::Zero(), volume.direction());
-  VoxelBall ball = grow_voxel_ball(part, o, {start[0] - lo[0], start[1] - lo[1], start[2] - lo[2]});
+  VoxelBall ball = BallGrower(part, o, std::move(part_region)).grow({start[0] - lo[0], start[1] - lo[1], start[2] - lo[2]});
   ball.offset = lo;
   // Per axis, the range of the crop's coordinates the ball may use.
   Index3 from, to;
