@@ -17,10 +17,12 @@ struct FloatSnapResult {
   double largest_move = 0.0; // mm
 };
 
-// Tries, per vertex, the nearest float point and then the other corners of the
-// float cell around it; keeps the first one the guard accepts. The mesh must be
-// free of self-intersections on entry; it stays so. `refused` is 0 in practice;
-// when not, those vertices still round (unchecked) when stored as float.
+// Tries, per vertex, the nearest float point, then the other corners of the
+// float cell around it, then the float points up to five floats from the
+// nearest along each axis, nearest first; keeps the first one the guard
+// accepts. The mesh must be free of self-intersections on entry; it stays so.
+// `refused` is 0 in practice; when not, those vertices still round
+// (unchecked) when stored as float.
 // `threads`: for the guard's checks (0 = all hardware threads); the result is
 // the same for any count.
 FloatSnapResult snap_to_float(Mesh& mesh, int threads = 1);
