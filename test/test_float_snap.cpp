@@ -135,3 +135,15 @@ TEST(FloatSnap, vertices_between_sheets_closer_than_a_float_spacing_find_a_float
     EXPECT_LE(result.largest_move, 6.0 * cell_diagonal) << "turn " << k;
   }
 }
+
+// What a run checks when the snap refused vertices: the pairs that cross once
+// every vertex is rounded to float, as PLY and STL store them.
+TEST(FloatSnap, pairs_crossing_when_rounded_counts_what_a_float_file_holds) {
+  const Eigen::Matrix3d turn = Eigen::AngleAxisd(0.4, gdm::Vec3(0.3, 0.5, 0.8).normalized()).toRotationMatrix();
+  gdm::Mesh mesh = stacked_pancakes(3, 1e-6, 1e-6, turn);
+  ASSERT_FALSE(gdm::is_float_exact(mesh));
+  EXPECT_EQ(gdm::pairs_crossing_when_rounded(mesh), gdm::self_intersecting_pairs(naively_rounded(mesh)));
+  EXPECT_GT(gdm::pairs_crossing_when_rounded(mesh, 2), 0u);
+  gdm::snap_to_float(mesh, 2);
+  EXPECT_EQ(gdm::pairs_crossing_when_rounded(mesh, 2), 0u);
+}

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "gdm/intersection_guard.h"
+#include "gdm/mesh_checks.h"
 #include "gdm/parallel.h"
 
 namespace gdm {
@@ -68,6 +69,13 @@ bool is_float_exact(const Mesh& mesh) {
     if (!float_exact(p[0]) || !float_exact(p[1]) || !float_exact(p[2])) return false;
   }
   return true;
+}
+
+std::size_t pairs_crossing_when_rounded(const Mesh& mesh, int threads) {
+  if (is_float_exact(mesh)) return 0;
+  Mesh rounded = mesh;
+  for (auto v : rounded.vertices()) rounded.set_point(v, to_point(round_to_float(to_eigen(rounded.point(v)))));
+  return self_intersecting_pairs(rounded, threads);
 }
 
 FloatSnapResult snap_to_float(Mesh& mesh, int threads) {

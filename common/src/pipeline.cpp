@@ -5,6 +5,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "gdm/float_snap.h"
 #include "gdm/seed.h"
 #include "gdm/text.h"
 
@@ -362,6 +363,17 @@ PipelineResult run_model(const PreparedModel& p, const PipelineObserver& observe
     // A sphere's volume; a seed mesh may be larger than the object (local flip).
     const double seed_volume = p.choices.seed_source == "mesh" ? 0.0 : enclosed_volume(p.seed);
     r.failure = failure_of(r.deform, r.report, p.deform, p.allow_border, seed_volume);
+    // Vertices the float snap could not place stay in double precision: the
+    // model is checked as a float format stores it too (the file must keep
+    // the guarantees the report states).
+    if (r.failure.empty() && r.deform.float_refused > 0) {
+      const std::size_t crossing = pairs_crossing_when_rounded(r.mesh, p.deform.threads);
+      if (crossing > 0)
+        r.failure = std::to_string(r.deform.float_refused) +
+                    " vertices could not be moved to float points without making faces cross, and rounded to float "
+                    "(as PLY, STL, MeshLab and itk::Mesh<float> store it) the model has " +
+                    std::to_string(crossing) + " self-intersecting face pairs: a bug, please report it";
+    }
     if (r.failure.empty()) {
       const Volume& volume = *p.volume;
       const double t = p.deform.threshold;

@@ -39,4 +39,9 @@ Vec3 round_to_float(const Vec3& p);
 // True when every coordinate of every vertex is exactly a float.
 bool is_float_exact(const Mesh& mesh);
 
+// The self-intersecting face pairs of the mesh with every vertex rounded to
+// float, as a float format stores it (0 without a copy when the mesh is
+// float-exact). What a run checks when snap_to_float refused vertices.
+std::size_t pairs_crossing_when_rounded(const Mesh& mesh, int threads = 0);
+
 }  // namespace gdm
