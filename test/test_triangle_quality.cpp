@@ -196,6 +196,56 @@ TEST(TriangleQuality, removes_needles_and_caps_of_a_damaged_sphere) {
   for (auto v : mesh.vertices()) EXPECT_NEAR(to_eigen(mesh.point(v)).norm(), 10.0, 0.2);
 }
 
+// Faces below the bound on a sheet pressed against another (as where a
+// model meets itself): the damaged sphere above and a copy of it scaled by
+// 1 + 1e-7 about its centre (star-shaped, so the two nest without
+// crossing), a micrometre apart. Every operation that mends a face of the
+// outer sphere bends it inward across the inner one and one of the inner
+// sphere outward across the outer: the guard refuses them until the
+// corners step back from the contact (QualityResult::retreats).
+TEST(TriangleQuality, faces_against_another_sheet_are_mended_after_a_step_back) {
+  Mesh damaged = make_geodesic_sphere(Vec3::Zero(), 10.0, 3);
+  IntersectionGuard guard(damaged, 10.0, 0.0);
+  for (auto v : damaged.vertices()) {
+    const Vec3 p = to_eigen(damaged.point(v));
+    auto it = damaged.cvv_iter(v);
+    const Vec3 a = to_eigen(damaged.point(*it)), b = to_eigen(damaged.point(*++it));
+    Vec3 q = p;
+    if (v.idx() % 7 == 3) q = p + 0.95 * (a - p);
+    else if (v.idx() % 11 == 5) q = 0.5 * (a + b) + 0.02 * (p - 0.5 * (a + b));
+    if (q != p && guard.move_is_safe(v, q.normalized() * p.norm())) {
+      damaged.set_point(v, to_point(q.normalized() * p.norm()));
+      guard.rebuild();
+    }
+  }
+  Mesh mesh;
+  for (const double scale : {1.0, 1.0 + 1e-7}) {
+    const auto first = static_cast<int>(mesh.n_vertices());
+    for (auto v : damaged.vertices()) mesh.add_vertex(to_point(scale * to_eigen(damaged.point(v))));
+    for (auto f : damaged.faces()) {
+      std::vector<Mesh::VertexHandle> c;
+      for (auto v : damaged.fv_range(f)) c.emplace_back(first + v.idx());
+      mesh.add_face(c);
+    }
+  }
+  ASSERT_EQ(self_intersecting_pairs(mesh), 0u);
+  ASSERT_LT(smallest_angle_degrees(mesh), 5.0);
+  QualityOptions o;
+  o.min_angle = 10.0;
+  o.max_error = 0.1;
+  const QualityResult r = improve_triangle_quality(mesh, o);
+  std::printf("nested damaged spheres: smallest angle %.3f -> %.3f deg; retreats %zu, moves %zu, faces below %zu\n",
+              r.min_angle_before, r.min_angle_after, r.retreats, r.moves, r.faces_below);
+  EXPECT_GT(r.retreats, 0u);
+  EXPECT_EQ(r.faces_below, 0u);
+  EXPECT_GE(smallest_angle_degrees(mesh), 10.0);
+  const MeshReport m = measure(mesh);
+  EXPECT_TRUE(m.closed);
+  EXPECT_TRUE(m.two_manifold);
+  EXPECT_EQ(m.components, 2);
+  EXPECT_EQ(m.self_intersections, 0u);
+}
+
 // Thin spikes as the T1 head's model had them: a vertex of valence three
 // 3 mm above a triangle a quarter of a millimetre across, set into a face of
 // a sphere (faces of about 1.3 mm). With spike_radius they are removed and

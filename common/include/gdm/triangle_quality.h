@@ -43,6 +43,8 @@ struct QualityResult {
   std::size_t splits = 0;         // long edges of caps split at the foot of the cap's apex
   std::size_t moves = 0;          // vertex moves of the relaxation (the slides included)
   std::size_t slides = 0;         // of the moves: slides along an edge (the last resort)
+  std::size_t retreats = 0;       // of the moves: steps back from another sheet the faces left below
+                                  // the bound lie against (then the operations again)
   std::size_t faces_below = 0;    // faces still with an angle below min_angle after the pass
   double min_angle_before = 0.0;  // smallest angle of the mesh before the pass, degrees (NaN: no faces)
   double min_angle_after = 0.0;   // ... after it
