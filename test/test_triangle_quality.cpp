@@ -158,15 +158,14 @@ TEST(TriangleQuality, same_mesh_for_one_and_two_threads) {
   test::expect_same_mesh(one.mesh, two.mesh);
 }
 
-// The pass alone on a sphere whose vertices were pushed onto their
-// neighbours (needles) and onto the middle of edges (caps): every such face
-// is removed, and the result is a valid surface.
-TEST(TriangleQuality, removes_needles_and_caps_of_a_damaged_sphere) {
+namespace {
+
+// A geodesic sphere (radius 10 mm, level 3) whose every 7th vertex went 95 %
+// of the way to its first neighbour (a needle), every 11th onto the middle
+// of the edge between two of its neighbours (nearly: a cap), both projected
+// back onto the sphere's radius, each move checked by the guard.
+Mesh damaged_sphere() {
   Mesh mesh = make_geodesic_sphere(Vec3::Zero(), 10.0, 3);
-  ASSERT_GT(mesh.n_faces(), 1000u);
-  // Every 7th vertex goes 95 % of the way to its first neighbour (a needle),
-  // every 11th onto the middle of the edge between two of its neighbours
-  // (nearly: a cap), both projected back onto the sphere's radius.
   IntersectionGuard guard(mesh, 10.0, 0.0);
   for (auto v : mesh.vertices()) {
     const Vec3 p = to_eigen(mesh.point(v));
@@ -180,6 +179,17 @@ TEST(TriangleQuality, removes_needles_and_caps_of_a_damaged_sphere) {
       guard.rebuild();
     }
   }
+  return mesh;
+}
+
+}  // namespace
+
+// The pass alone on a sphere whose vertices were pushed onto their
+// neighbours (needles) and onto the middle of edges (caps): every such face
+// is removed, and the result is a valid surface.
+TEST(TriangleQuality, removes_needles_and_caps_of_a_damaged_sphere) {
+  Mesh mesh = damaged_sphere();
+  ASSERT_GT(mesh.n_faces(), 1000u);
   test::expect_valid_closed_surface(mesh);
   const double before = smallest_angle_degrees(mesh);
   ASSERT_LT(before, 5.0);
@@ -204,20 +214,7 @@ TEST(TriangleQuality, removes_needles_and_caps_of_a_damaged_sphere) {
 // sphere outward across the outer: the guard refuses them until the
 // corners step back from the contact (QualityResult::retreats).
 TEST(TriangleQuality, faces_against_another_sheet_are_mended_after_a_step_back) {
-  Mesh damaged = make_geodesic_sphere(Vec3::Zero(), 10.0, 3);
-  IntersectionGuard guard(damaged, 10.0, 0.0);
-  for (auto v : damaged.vertices()) {
-    const Vec3 p = to_eigen(damaged.point(v));
-    auto it = damaged.cvv_iter(v);
-    const Vec3 a = to_eigen(damaged.point(*it)), b = to_eigen(damaged.point(*++it));
-    Vec3 q = p;
-    if (v.idx() % 7 == 3) q = p + 0.95 * (a - p);
-    else if (v.idx() % 11 == 5) q = 0.5 * (a + b) + 0.02 * (p - 0.5 * (a + b));
-    if (q != p && guard.move_is_safe(v, q.normalized() * p.norm())) {
-      damaged.set_point(v, to_point(q.normalized() * p.norm()));
-      guard.rebuild();
-    }
-  }
+  const Mesh damaged = damaged_sphere();
   Mesh mesh;
   for (const double scale : {1.0, 1.0 + 1e-7}) {
     const auto first = static_cast<int>(mesh.n_vertices());
