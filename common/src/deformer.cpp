@@ -657,15 +657,25 @@ std::vector<int> Deformer::evaluate_active(std::vector<StepResult>& steps) {
 // instead of 624, most of them with one or two vertices moving). A move
 // that would bring a vertex within kPileUpEdge voxels of a neighbour it is
 // farther from is not made: such an edge adds nothing to the model (the
-// triangle-quality pass collapses it anyway). Shrinking, edges shorten as
+// triangle-quality pass collapses it anyway). Nor within kPileUpEdge of a
+// neighbour's neighbour (stop 65): on the T1 head from its voxels a strip
+// between two vertices of high valence zigzagged sixteen times, each vertex
+// split off the strip's long edge moving onto the point where the vertex
+// two before it sat; the layers ended 1e-9 mm apart, folded flat, and no
+// float point could keep them apart in a PLY. Shrinking, edges shorten as
 // the surface contracts; its pleats have their own pass (smooth_pleats).
 bool Deformer::piles_onto_a_neighbour(Mesh::VertexHandle v, const Vec3& p) const {
   if (o_.mode != Mode::grow) return false;
   const double limit2 = kPileUpEdge * kPileUpEdge * voxel_ * voxel_;
   const Vec3 from = to_eigen(mesh_.point(v));
-  for (auto w : mesh_.vv_range(v)) {
+  const auto piles_onto = [&](Mesh::VertexHandle w) {
     const Vec3 q = to_eigen(mesh_.point(w));
-    if ((p - q).squaredNorm() < limit2 && (from - q).squaredNorm() >= limit2) return true;
+    return w != v && (p - q).squaredNorm() < limit2 && (from - q).squaredNorm() >= limit2;
+  };
+  for (auto w : mesh_.vv_range(v)) {
+    if (piles_onto(w)) return true;
+    for (auto u : mesh_.vv_range(w))
+      if (piles_onto(u)) return true;
   }
   return false;
 }
