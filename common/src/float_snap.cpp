@@ -15,22 +15,19 @@ namespace {
 
 bool float_exact(double x) { return round_to_float(x) == x; }
 
-// The float values bracketing x: {nearest, the other neighbour} (equal when x is a float).
-std::array<double, 2> float_bracket(double x) {
-  const double n = round_to_float(x);
-  const float nearest = static_cast<float>(n);
-  if (n == x) return {n, n};
-  const float other = std::nextafter(nearest, n < x ? std::numeric_limits<float>::infinity()
-                                                    : -std::numeric_limits<float>::infinity());
-  return {n, static_cast<double>(other)};
-}
-
 // x moved by `steps` floats (toward +infinity when positive), as a double.
 double float_steps(double x, int steps) {
   float f = static_cast<float>(x);
   const float toward = steps > 0 ? std::numeric_limits<float>::infinity() : -std::numeric_limits<float>::infinity();
   for (int k = 0; k < std::abs(steps); ++k) f = std::nextafter(f, toward);
   return static_cast<double>(f);
+}
+
+// The float values bracketing x: {nearest, the other neighbour} (equal when x is a float).
+std::array<double, 2> float_bracket(double x) {
+  const double n = round_to_float(x);
+  if (n == x) return {n, n};
+  return {n, float_steps(n, n < x ? 1 : -1)};
 }
 
 // Beyond the float cell's corners: the float points up to kLatticeReach

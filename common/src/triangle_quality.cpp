@@ -202,6 +202,11 @@ class QualityPass {
   // the error bound of its new faces (a vertex on a crease does not cut the
   // edge off).
   std::optional<Candidate> judge_move(Mesh::VertexHandle v, const Vec3& p, const Vec3& q, double before) const;
+  // The smallest angle of v's faces with v at q (those faces in `moved`
+  // when given).
+  double smallest_angle_with(Mesh::VertexHandle v, const Vec3& q, std::vector<Tri>* moved = nullptr) const;
+  // v to q when the obstacle and the guard allow it (registered and watched).
+  bool place(Mesh::VertexHandle v, const Vec3& q);
   // Moves v to the shortest candidate that lifts every face around it to the
   // bound, else to the one that lifts the smallest angle most (short moves
   // keep the surface where the fit put it), the first the obstacle and the
@@ -1124,18 +1129,31 @@ bool QualityPass::try_relax(Mesh::VertexHandle v, bool fine) {
 
 std::optional<QualityPass::Candidate> QualityPass::judge_move(Mesh::VertexHandle v, const Vec3& p, const Vec3& q,
                                                               double before) const {
-  double after = 180.0;
   std::vector<Tri> moved;
+  const double after = smallest_angle_with(v, q, &moved);
+  if (max_error_ > 0.0 && distance_to(p, moved) > max_error_) return std::nullopt;
+  if (!(after > before + 1e-6)) return std::nullopt;
+  return Candidate{q, after, (q - p).norm()};
+}
+
+double QualityPass::smallest_angle_with(Mesh::VertexHandle v, const Vec3& q, std::vector<Tri>* moved) const {
+  double after = 180.0;
   for (auto f : mesh_.vf_range(v)) {
     Tri t;
     int i = 0;
     for (auto w : mesh_.fv_range(f)) t[i++] = w == v ? q : pos(mesh_, w);
     after = std::min(after, triangle_min_angle(t[0], t[1], t[2]));
-    moved.push_back(t);
+    if (moved) moved->push_back(t);
   }
-  if (max_error_ > 0.0 && distance_to(p, moved) > max_error_) return std::nullopt;
-  if (!(after > before + 1e-6)) return std::nullopt;
-  return Candidate{q, after, (q - p).norm()};
+  return after;
+}
+
+bool QualityPass::place(Mesh::VertexHandle v, const Vec3& q) {
+  if (o_.obstacle && o_.obstacle->blocks_move(mesh_, v, q)) return false;
+  if (guard() && !guard()->move_is_safe(v, q)) return false;
+  mesh_.set_point(v, to_point(q));
+  note_changed_vertex(v);
+  return true;
 }
 
 bool QualityPass::move_to_best(Mesh::VertexHandle v, std::vector<Candidate>& candidates) {
@@ -1144,13 +1162,8 @@ bool QualityPass::move_to_best(Mesh::VertexHandle v, std::vector<Candidate>& can
     if (xs != ys) return xs;
     return xs ? x.length < y.length : x.after > y.after;
   });
-  for (const Candidate& c : candidates) {
-    if (o_.obstacle && o_.obstacle->blocks_move(mesh_, v, c.q)) continue;
-    if (guard() && !guard()->move_is_safe(v, c.q)) continue;
-    mesh_.set_point(v, to_point(c.q));
-    note_changed_vertex(v);
-    return true;
-  }
+  for (const Candidate& c : candidates)
+    if (place(v, c.q)) return true;
   return false;
 }
 
@@ -1247,30 +1260,18 @@ std::size_t QualityPass::retreat_phase() {
   std::size_t moves = 0;
   for (int i : vertices) {
     const Mesh::VertexHandle v(i);
-    Vec3 normal = Vec3::Zero();
-    for (auto f : mesh_.vf_range(v)) normal += face_area_normal(mesh_, f);
+    const Vec3 normal = vertex_area_normal(mesh_, v);
     if (!(normal.norm() > 0.0)) continue;
     const Vec3 p = pos(mesh_, v);
-    double before = 180.0;
-    for (auto f : mesh_.vf_range(v)) before = std::min(before, face_min_angle(mesh_, f));
+    const double before = smallest_angle_with(v, p);
     for (const double sense : {-1.0, 1.0}) {
       const Vec3 q = p + sense * step * normal.normalized();
       // No face around v falls below the bound by the step (or below where it was).
-      double after = 180.0;
-      for (auto f : mesh_.vf_range(v)) {
-        const auto c = corners(mesh_, f);
-        std::array<Vec3, 3> t{pos(mesh_, c[0]), pos(mesh_, c[1]), pos(mesh_, c[2])};
-        for (std::size_t k = 0; k < 3; ++k)
-          if (c[k] == v) t[k] = q;
-        after = std::min(after, triangle_min_angle(t[0], t[1], t[2]));
+      if (smallest_angle_with(v, q) < std::min(before, bound_)) continue;
+      if (place(v, q)) {
+        ++moves;
+        break;
       }
-      if (after < std::min(before, bound_)) continue;
-      if (o_.obstacle && o_.obstacle->blocks_move(mesh_, v, q)) continue;
-      if (guard() && !guard()->move_is_safe(v, q)) continue;
-      mesh_.set_point(v, to_point(q));
-      note_changed_vertex(v);
-      ++moves;
-      break;
     }
   }
   return moves;
