@@ -40,5 +40,9 @@ if [ -n "$(git -C "$here" status --porcelain --untracked-files=no 2>/dev/null ||
 fi
 # A later --out among "$@" overrides this one. The X display number starts at a
 # random point: parallel xvfb-run -a calls starting at the same number can share
-# (and lose) one server.
-xvfb-run -a -n "$((100 + RANDOM % 800))" "$study" --out "$out" --data "$shared/data" --commit "$commit" "$@"
+# (and lose) one server. -noreset: each picture opens and closes its own X
+# connection, and an X server resets when its last client leaves; a window
+# opened during the reset failed (XSync crashed, or VTK aborted on "bad X server
+# connection") in 9 of 40 quick runs, which is how CI's run of stop 65 ended
+# with exit 139; with -noreset none of 40 did.
+xvfb-run -a -n "$((100 + RANDOM % 800))" -s "-screen 0 1280x1024x24 -noreset" "$study" --out "$out" --data "$shared/data" --commit "$commit" "$@"

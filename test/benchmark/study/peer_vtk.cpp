@@ -12,8 +12,8 @@
 #include <vtkCellArray.h>
 #include <vtkChartLegend.h>
 #include <vtkChartXY.h>
+#include <vtkContextActor.h>
 #include <vtkContextScene.h>
-#include <vtkContextView.h>
 #include <vtkCoordinate.h>
 #include <vtkFloatArray.h>
 #include <vtkFlyingEdges3D.h>
@@ -274,12 +274,21 @@ void render_panels(const std::string& png, const std::vector<Panel>& panels, int
 
 void line_plot(const std::string& png, const std::string& title, const std::string& x_label,
                const std::string& y_label, const std::vector<Series>& series, bool log_x, bool log_y) {
-  vtkNew<vtkContextView> view;
-  view->GetRenderWindow()->SetOffScreenRendering(1);
-  view->GetRenderWindow()->SetSize(760, 480);
-  view->GetRenderer()->SetBackground(1.0, 1.0, 1.0);
+  // The chart in a context actor of a plain offscreen window, as render_panels
+  // draws: a vtkContextView also brings an X interactor, which an offscreen
+  // picture does not need.
+  vtkNew<vtkRenderWindow> window;
+  window->SetOffScreenRendering(1);
+  window->SetSize(760, 480);
+  window->SetMultiSamples(0);
+  vtkNew<vtkRenderer> renderer;
+  renderer->SetBackground(1.0, 1.0, 1.0);
+  window->AddRenderer(renderer);
+  vtkNew<vtkContextActor> context;
+  context->GetScene()->SetRenderer(renderer);
+  renderer->AddActor(context);
   vtkNew<vtkChartXY> chart;
-  view->GetScene()->AddItem(chart);
+  context->GetScene()->AddItem(chart);
   chart->SetTitle(title);
   chart->GetTitleProperties()->SetFontSize(16);
   chart->SetShowLegend(true);
@@ -316,8 +325,8 @@ void line_plot(const std::string& png, const std::string& title, const std::stri
     plot->SetColor(c[0], c[1], c[2], 255);
     plot->SetWidth(2.0);
   }
-  view->GetRenderWindow()->Render();
-  write_window(view->GetRenderWindow(), png);
+  window->Render();
+  write_window(window, png);
 }
 
 }  // namespace study
