@@ -5,10 +5,10 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <queue>
 #include <utility>
 
 #include "gdm/distance_transform.h"
+#include "gdm/largest_first_queue.h"
 #include "gdm/passage.h"
 #include "gdm/voxel_flood.h"
 #include "gdm/voxel_grid.h"
@@ -419,8 +419,7 @@ void CavityFinder::cap_handles(CavityFill& fill) {
   });
   // Largest distance first (growth_key).
   const auto key = [&](std::size_t c) { return growth_key(at[c].d2, c); };
-  using Entry = std::pair<std::uint64_t, std::size_t>;
-  std::priority_queue<Entry> queue;  // the largest key first
+  LargestFirstQueue queue;
   const Index3& n = box_.n;
   const std::ptrdiff_t sx = 1, sy = n[0], sz = static_cast<std::ptrdiff_t>(n[0]) * n[1];
   const std::array<std::ptrdiff_t, 27> offset = neighbour_offsets(n);
@@ -432,7 +431,7 @@ void CavityFinder::cap_handles(CavityFill& fill) {
       const std::size_t m = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(c) + offset[static_cast<std::size_t>(s)]);
       if (at[m].state != kFree) continue;
       at[m].state = kQueued;
-      queue.push({key(m), m});
+      queue.push(key(m), m);
     }
   };
   for (std::size_t c = 0; c < box_.count(); ++c) {
@@ -440,14 +439,13 @@ void CavityFinder::cap_handles(CavityFill& fill) {
     for (const std::ptrdiff_t step : {-sx, sx, -sy, sy, -sz, sz})
       if (at[static_cast<std::size_t>(static_cast<std::ptrdiff_t>(c) + step)].state == kReached) {
         at[c].state = kQueued;
-        queue.push({key(c), c});
+        queue.push(key(c), c);
         break;
       }
   }
   const SimplePointTest hood;
   while (!queue.empty()) {
-    const std::size_t c = queue.top().second;
-    queue.pop();
+    const std::size_t c = queue.pop();
     at[c].state = kFree;
     std::uint32_t reached = 0;
     for (int s = 0; s < 27; ++s)
@@ -579,8 +577,7 @@ void CavityFinder::cut_handles(CavityFill& fill) {
     if (start == box_.count() || d2[c] > d2[start]) start = c;
   });
   if (start == box_.count()) return;
-  using Entry = std::pair<std::uint64_t, std::size_t>;
-  std::priority_queue<Entry> queue;  // the largest key first
+  LargestFirstQueue queue;
   const std::array<std::ptrdiff_t, 27> offset = neighbour_offsets(box_.n);
   const auto neighbour = [&](std::size_t c, int s) {
     return static_cast<std::size_t>(static_cast<std::ptrdiff_t>(c) + offset[static_cast<std::size_t>(s)]);
@@ -592,14 +589,13 @@ void CavityFinder::cut_handles(CavityFill& fill) {
       const std::size_t m = neighbour(c, s);
       if (state[m] != kFree) continue;
       state[m] = kQueued;
-      queue.push({growth_key(d2[m], m), m});
+      queue.push(growth_key(d2[m], m), m);
     }
   };
   take(start);
   const SimplePointTest hood;
   while (!queue.empty()) {
-    const std::size_t c = queue.top().second;
-    queue.pop();
+    const std::size_t c = queue.pop();
     state[c] = kFree;
     std::uint32_t reached = 0;
     for (int s = 0; s < 27; ++s)

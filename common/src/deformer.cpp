@@ -344,6 +344,8 @@ class Deformer {
   int make_move(int i, const StepResult& r, int cycle, IntersectionGuard::Checker& checker);
   bool piles_onto_a_neighbour(Mesh::VertexHandle v, const Vec3& p) const;
   bool refusal_holds(Mesh::VertexHandle v, const Vec3& p) const;
+  bool flip_allowed(Mesh::EdgeHandle e, const Mesh::VertexHandle (&quad)[4]);
+  bool flip_refusal_holds(std::size_t edge, const Mesh::VertexHandle (&quad)[4]) const;
   // Per face: whether a corner, or a vertex within `rings` rings of one, was
   // touched since the mark `seen` (0: every face), which becomes now.
   void faces_touched_since(int& seen, std::vector<char>& faces, int rings = 0);
@@ -425,6 +427,18 @@ class Deformer {
     int face = -1;                           // that face (-1: its own fan), the guard's first test next time
   };
   std::vector<Refusal> refusal_;
+  // The guard's last refusal of an edge's flip, while the quad and the face
+  // a new face would cut stay as they were: a refused flip's edge is asked
+  // again every cycle (flip_to_improve), and on the T1 head those checks,
+  // the same flips refused again, were a third of the time of the cycles
+  // in which a stage converges (perf). The answer is the guard's: the two
+  // new faces and that face are the same triangles.
+  struct FlipRefusal {
+    int clock = -1;                          // touch_clock_ then (-1: none)
+    std::array<int, 4> quad{-1, -1, -1, -1};  // the flip's quad then
+    std::array<int, 3> blocker{-1, -1, -1};   // the vertices of the face a new face cut (-1: none)
+  };
+  std::vector<FlipRefusal> flip_refusal_;  // per edge index
   std::vector<Vec3> anchor_;          // position when last counted as moving
   std::vector<Vec3> stage_start_;     // position when the stage began or the vertex was created
   std::vector<int> last_change_;      // cycle the vertex last moved beyond the tolerance
@@ -536,6 +550,7 @@ void Deformer::start_stage(int cycle) {
   std::fill(touched_.begin(), touched_.end(), touch_clock_);
   normals_seen_ = splits_seen_ = flips_seen_ = verdicts_seen_ = 0;
   edge_dirty_.clear();
+  flip_refusal_.clear();  // the guard's answers of this stage only
   if (guard_) rejected_earlier_stages_ += guard_->statistics().rejected_moves;
   guard_ = std::make_unique<IntersectionGuard>(mesh_, o_.optimizer.max_step * voxel_, 1e-6 * voxel_ * voxel_);
 }
@@ -706,6 +721,41 @@ bool Deformer::guard_allows(Mesh::VertexHandle v, const Vec3& p, IntersectionGua
     for (auto w : mesh_.fv_range(Mesh::FaceHandle(f))) r.blocker[static_cast<std::size_t>(k++)] = w.idx();
   }
   return false;
+}
+
+bool Deformer::flip_allowed(Mesh::EdgeHandle e, const Mesh::VertexHandle (&quad)[4]) {
+  const auto i = static_cast<std::size_t>(e.idx());
+  if (flip_refusal_.size() <= i) flip_refusal_.resize(mesh_.n_edges());
+  if (flip_refusal_holds(i, quad)) {
+    guard_->count_rejected_flip();
+    return false;
+  }
+  FlipRefusal& r = flip_refusal_[i];
+  if (guard_->flip_is_safe(e, quad)) {
+    r.clock = -1;
+    return true;
+  }
+  r.clock = touch_clock_;
+  for (std::size_t k = 0; k < 4; ++k) r.quad[k] = quad[k].idx();
+  r.blocker = {-1, -1, -1};
+  if (const int f = guard_->last_blocking_face(); f >= 0) {
+    int k = 0;
+    for (auto w : mesh_.fv_range(Mesh::FaceHandle(f))) r.blocker[static_cast<std::size_t>(k++)] = w.idx();
+  }
+  return false;
+}
+
+bool Deformer::flip_refusal_holds(std::size_t edge, const Mesh::VertexHandle (&quad)[4]) const {
+  const FlipRefusal& r = flip_refusal_[edge];
+  if (r.clock < 0) return false;
+  for (std::size_t k = 0; k < 4; ++k)
+    if (r.quad[k] != quad[k].idx()) return false;
+  const auto untouched = [&](int w) { return touched_[static_cast<std::size_t>(w)] < r.clock; };
+  for (int w : r.quad)
+    if (!untouched(w)) return false;
+  for (int w : r.blocker)
+    if (w >= 0 && !untouched(w)) return false;
+  return true;
 }
 
 bool Deformer::refusal_holds(Mesh::VertexHandle v, const Vec3& p) const {
@@ -882,7 +932,7 @@ std::size_t Deformer::resample(int cycle) {
       return Obstacle::Triangle{to_eigen(mesh_.point(a)), to_eigen(mesh_.point(b)), to_eigen(mesh_.point(c))};
     };
     const FlipVeto veto = [&](Mesh::EdgeHandle e, const Mesh::VertexHandle (&quad)[4]) {
-      if (o_.prevent_self_intersection && !guard_->flip_is_safe(e, quad)) return false;
+      if (o_.prevent_self_intersection && !flip_allowed(e, quad)) return false;
       if (o_.obstacle && (o_.obstacle->blocks(flipped_triangle(quad[0], quad[1], quad[3])) ||
                           o_.obstacle->blocks(flipped_triangle(quad[2], quad[3], quad[1]))))
         return false;

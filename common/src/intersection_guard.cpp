@@ -70,7 +70,7 @@ IntersectionGuard::Triangle IntersectionGuard::face_triangle(int face, int moved
 }
 
 bool IntersectionGuard::triangle_is_clear(const Triangle& t, const std::vector<int>& ignore_faces,
-                                          int moved_vertex, const Vec3& moved_to) {
+                                          int moved_vertex, const Vec3& moved_to, int& blocking) {
   const Vec3 lo = t.p[0].cwiseMin(t.p[1]).cwiseMin(t.p[2]);
   const Vec3 hi = t.p[0].cwiseMax(t.p[1]).cwiseMax(t.p[2]);
   bool clear = true;
@@ -80,7 +80,10 @@ bool IntersectionGuard::triangle_is_clear(const Triangle& t, const std::vector<i
     const Vec3 olo = other.p[0].cwiseMin(other.p[1]).cwiseMin(other.p[2]);
     const Vec3 ohi = other.p[0].cwiseMax(other.p[1]).cwiseMax(other.p[2]);
     if ((olo.array() > hi.array()).any() || (ohi.array() < lo.array()).any()) return;
-    if (triangles_intersect_improperly(t.p, t.id, other.p, other.id)) clear = false;
+    if (triangles_intersect_improperly(t.p, t.id, other.p, other.id)) {
+      clear = false;
+      blocking = g;
+    }
   });
   return clear;
 }
@@ -402,9 +405,10 @@ bool IntersectionGuard::flip_is_safe(Mesh::EdgeHandle e, const Mesh::VertexHandl
     return t;
   };
   const Triangle t0 = tri(q[0], q[1], q[3]), t1 = tri(q[2], q[3], q[1]);
+  last_blocking_face_ = -1;
   for (const Triangle* t : {&t0, &t1}) {
     const double area = 0.5 * t->normal().norm();
-    if (area < min_face_area_ || !triangle_is_clear(*t, ignore, -1, Vec3::Zero())) {
+    if (area < min_face_area_ || !triangle_is_clear(*t, ignore, -1, Vec3::Zero(), last_blocking_face_)) {
       ++stats_.rejected_flips;
       return false;
     }

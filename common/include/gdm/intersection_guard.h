@@ -103,6 +103,8 @@ class IntersectionGuard {
 
   // Would the flip creating (q0, q1, q3) and (q2, q3, q1) from the faces
   // around edge e keep the mesh free of intersections?
+  // On a refusal, last_blocking_face() is the face a new face would cut (-1:
+  // the new faces are degenerate or cut each other).
   bool flip_is_safe(Mesh::EdgeHandle e, const Mesh::VertexHandle (&quad)[4]);
 
   const GuardStatistics& statistics() const { return stats_; }
@@ -112,6 +114,8 @@ class IntersectionGuard {
   // Counts a move the caller knows the guard refuses (the same move, the
   // same faces as at an earlier refusal), without checking it again.
   void count_rejected_move() { ++stats_.rejected_moves; }
+  // The same for a flip.
+  void count_rejected_flip() { ++stats_.rejected_flips; }
 
  private:
   struct Triangle {
@@ -120,8 +124,10 @@ class IntersectionGuard {
     // (p1 - p0) x (p2 - p0): the face's normal, twice its area long.
     Vec3 normal() const { return (p[1] - p[0]).cross(p[2] - p[0]); }
   };
+  // Whether t cuts no face near it (but those ignored); else `blocking` is
+  // the face it cuts.
   bool triangle_is_clear(const Triangle& t, const std::vector<int>& ignore_faces, int moved_vertex,
-                         const Vec3& moved_to);
+                         const Vec3& moved_to, int& blocking);
   Triangle face_triangle(int face, int moved_vertex, const Vec3& moved_to) const;
 
   const Mesh* mesh_;
