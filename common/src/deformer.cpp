@@ -340,6 +340,9 @@ class Deformer {
   static constexpr int kNoWake = std::numeric_limits<int>::min();
   bool wake(int event);
   void touch(Mesh::VertexHandle v) { touched_[static_cast<std::size_t>(v.idx())] = touch_clock_; }
+  bool untouched_since(int v, int clock) const { return touched_[static_cast<std::size_t>(v)] < clock; }
+  // The vertices of face f ({-1, -1, -1} for f < 0): what a refusal keeps of the face it met.
+  std::array<int, 3> corners_of(int f) const;
   bool guard_allows(Mesh::VertexHandle v, const Vec3& p, IntersectionGuard::Checker& checker);
   int make_move(int i, const StepResult& r, int cycle, IntersectionGuard::Checker& checker);
   bool piles_onto_a_neighbour(Mesh::VertexHandle v, const Vec3& p) const;
@@ -714,13 +717,17 @@ bool Deformer::guard_allows(Mesh::VertexHandle v, const Vec3& p, IntersectionGua
   Refusal& r = refusal_[i];
   r.to = p;
   r.clock = touch_clock_;
-  r.blocker = {-1, -1, -1};
   r.face = checker.last_blocking_face;
-  if (const int f = r.face; f >= 0) {
-    int k = 0;
-    for (auto w : mesh_.fv_range(Mesh::FaceHandle(f))) r.blocker[static_cast<std::size_t>(k++)] = w.idx();
-  }
+  r.blocker = corners_of(r.face);
   return false;
+}
+
+std::array<int, 3> Deformer::corners_of(int f) const {
+  std::array<int, 3> corners{-1, -1, -1};
+  if (f < 0) return corners;
+  std::size_t k = 0;
+  for (auto w : mesh_.fv_range(Mesh::FaceHandle(f))) corners[k++] = w.idx();
+  return corners;
 }
 
 bool Deformer::flip_allowed(Mesh::EdgeHandle e, const Mesh::VertexHandle (&quad)[4]) {
@@ -737,11 +744,7 @@ bool Deformer::flip_allowed(Mesh::EdgeHandle e, const Mesh::VertexHandle (&quad)
   }
   r.clock = touch_clock_;
   for (std::size_t k = 0; k < 4; ++k) r.quad[k] = quad[k].idx();
-  r.blocker = {-1, -1, -1};
-  if (const int f = guard_->last_blocking_face(); f >= 0) {
-    int k = 0;
-    for (auto w : mesh_.fv_range(Mesh::FaceHandle(f))) r.blocker[static_cast<std::size_t>(k++)] = w.idx();
-  }
+  r.blocker = corners_of(guard_->last_blocking_face());
   return false;
 }
 
@@ -750,23 +753,21 @@ bool Deformer::flip_refusal_holds(std::size_t edge, const Mesh::VertexHandle (&q
   if (r.clock < 0) return false;
   for (std::size_t k = 0; k < 4; ++k)
     if (r.quad[k] != quad[k].idx()) return false;
-  const auto untouched = [&](int w) { return touched_[static_cast<std::size_t>(w)] < r.clock; };
   for (int w : r.quad)
-    if (!untouched(w)) return false;
+    if (!untouched_since(w, r.clock)) return false;
   for (int w : r.blocker)
-    if (w >= 0 && !untouched(w)) return false;
+    if (w >= 0 && !untouched_since(w, r.clock)) return false;
   return true;
 }
 
 bool Deformer::refusal_holds(Mesh::VertexHandle v, const Vec3& p) const {
   const Refusal& r = refusal_[static_cast<std::size_t>(v.idx())];
   if (r.clock < 0 || !(r.to.array() == p.array()).all()) return false;
-  const auto untouched = [&](int w) { return touched_[static_cast<std::size_t>(w)] < r.clock; };
-  if (!untouched(v.idx())) return false;
+  if (!untouched_since(v.idx(), r.clock)) return false;
   for (auto w : mesh_.vv_range(v))
-    if (!untouched(w.idx())) return false;
+    if (!untouched_since(w.idx(), r.clock)) return false;
   for (int w : r.blocker)
-    if (w >= 0 && !untouched(w)) return false;
+    if (w >= 0 && !untouched_since(w, r.clock)) return false;
   return true;
 }
 
