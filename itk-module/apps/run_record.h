@@ -45,6 +45,7 @@ struct RunRecord {
   double check_seconds = 0.0;       // of it, the checks
   gdm::MeshReport mesh;             // the result's checks and measures
   gdm::ContactReport contacts;      // where the model meets itself (closer than a voxel)
+  bool voxel_seed_possible = false; // the model grew (no obstacle): --voxel-seed would have applied
   std::array<double, 3> low{0, 0, 0}, high{0, 0, 0};  // bounding box, mm
   int max_generation = 0;           // the youngest vertex's generation
   std::string output;               // mesh file written ("" when none)
