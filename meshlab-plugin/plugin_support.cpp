@@ -12,7 +12,7 @@ std::string fmt(double v) { return gdm::format_number(v, 4); }
 // The pipeline ends with the model on float-representable points
 // (float_exact_output): MeshLab's float coordinates keep the no-intersection
 // guarantee.
-void log_result(const gdm::PipelineResult& r, LogLines* log) {
+void log_result(const gdm::PipelineResult& r, bool voxel_seed_possible, LogLines* log) {
   const gdm::DeformResult& d = r.deform;
   if (d.float_refused > 0)
     log->push_back("warning: " + std::to_string(d.float_refused) +
@@ -40,6 +40,9 @@ void log_result(const gdm::PipelineResult& r, LogLines* log) {
     log->push_back("warning: the model did not converge; raise max_cycles or check the threshold");
   if (r.failure.empty()) log->push_back("result: " + gdm::to_string(r.report));
   for (const std::string& line : gdm::describe_contacts(r.contacts, 5, r.report.area)) log->push_back("warning: " + line);
+  if (voxel_seed_possible && !d.voxel_seed && gdm::seams_worth_a_voxel_seed(r.contacts, r.report.area))
+    log->push_back("hint: \"Start from the object's voxels\" (voxel_seed) starts the model from the object's voxels, so "
+                   "no fronts meet and no seam is left where the object has no handle (it takes longer)");
 }
 
 }  // namespace gdm_meshlab

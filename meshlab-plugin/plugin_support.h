@@ -18,7 +18,9 @@ using LogLines = std::vector<std::string>;
 std::string fmt(double v);
 
 // The outcome of a pipeline run as log lines: how the model stopped, the
-// checks of the result (closed, manifold, genus, self-intersections, volume).
-void log_result(const gdm::PipelineResult& r, LogLines* log);
+// checks of the result (closed, manifold, genus, self-intersections, volume),
+// where it meets itself, and, when it could have started from the object's
+// voxels (`voxel_seed_possible`: it grew) but did not and left seams, a hint to.
+void log_result(const gdm::PipelineResult& r, bool voxel_seed_possible, LogLines* log);
 
 }  // namespace gdm_meshlab

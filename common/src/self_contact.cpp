@@ -236,6 +236,10 @@ ContactReport find_self_contacts(const Mesh& mesh, double distance, const std::f
   return report;
 }
 
+bool seams_worth_a_voxel_seed(const ContactReport& report, double model_area) {
+  return model_area > 0.0 && report.seam_area > kSeamShareWorthAVoxelSeed * model_area;
+}
+
 std::vector<std::string> describe_contacts(const ContactReport& report, std::size_t limit, double model_area) {
   std::vector<std::string> lines;
   if (report.regions.empty()) return lines;

@@ -20,10 +20,6 @@ std::string vec(const std::array<double, 3>& v, int digits) {
   return "(" + fixed(v[0], digits) + ", " + fixed(v[1], digits) + ", " + fixed(v[2], digits) + ")";
 }
 
-// Seams above this share of the model's area are worth the voxel seed's time
-// (the T1 head at the defaults: 31 % of its area, 0.07 % from its voxels).
-constexpr double kSeamShareForHint = 0.01;
-
 }  // namespace
 
 const char* const kVoxelSeedHint =
@@ -31,8 +27,7 @@ const char* const kVoxelSeedHint =
     "object has no handle (it takes longer: the voxels are taken one by one and reduced)";
 
 bool seams_worth_a_voxel_seed(const RunRecord& r) {
-  return r.voxel_seed_possible && !r.model.voxel_seed && r.mesh.area > 0.0 &&
-         r.contacts.seam_area > kSeamShareForHint * r.mesh.area;
+  return r.voxel_seed_possible && !r.model.voxel_seed && gdm::seams_worth_a_voxel_seed(r.contacts, r.mesh.area);
 }
 
 void record_extent(const gdm::Mesh& mesh, RunRecord& record) {

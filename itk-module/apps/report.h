@@ -17,8 +17,8 @@ void record_extent(const gdm::Mesh& mesh, RunRecord& record);
 std::string input_text(const InputInfo& input);
 
 // The summary's hint to start from the object's voxels, and whether a run
-// gets it: it grew, not from its voxels, and left seams (where its fronts met,
-// self_contact.h) on more than 1 % of its area.
+// gets it: it grew, not from its voxels, and left seams where its fronts met
+// (gdm::seams_worth_a_voxel_seed).
 extern const char* const kVoxelSeedHint;
 bool seams_worth_a_voxel_seed(const RunRecord& record);
 
