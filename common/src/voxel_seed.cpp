@@ -12,6 +12,7 @@
 #include "gdm/distance_transform.h"
 #include "gdm/error_lod.h"
 #include "gdm/face_budget.h"
+#include "gdm/largest_first_queue.h"
 #include "gdm/voxel_flood.h"
 #include "gdm/voxel_grid.h"
 #include "gdm/voxel_topology.h"
@@ -76,8 +77,7 @@ class BallGrower {
       queue_around(s);
     }
     while (!queue_.empty()) {
-      const std::size_t c = queue_.top().second;
-      queue_.pop();
+      const std::size_t c = queue_.pop();
       if (state_[c] != kQueued) continue;  // taken meanwhile to keep the set well-composed
       state_[c] = kFree;
       take_if_simple(c);
@@ -90,7 +90,6 @@ class BallGrower {
   // taken only to keep the set well-composed; kFree / kQueued: object not
   // (yet) taken; kReached: in the ball.
   enum : char { kFixed = 0, kSpare = 1, kFree = 2, kQueued = 3, kReached = 4 };
-  using Entry = std::pair<std::uint64_t, std::size_t>;
 
   std::size_t index(int i, int j, int k) const { return grid_.index(i, j, k); }
   Index3 voxel(std::size_t c) const { return grid_.voxel(c); }
@@ -112,7 +111,7 @@ class BallGrower {
       const std::size_t m = neighbour(c, s);
       if (state_[m] != kFree) continue;
       state_[m] = kQueued;
-      queue_.push({key(m), m});
+      queue_.push(key(m), m);
     }
   }
 
@@ -291,7 +290,7 @@ class BallGrower {
   std::array<std::ptrdiff_t, 27> offset_;
   std::vector<float> depth_;  // squared distance to the nearest voxel outside the region, mm^2
   std::vector<char> state_;
-  std::priority_queue<Entry> queue_;
+  LargestFirstQueue queue_;  // the binary heap's order; its sift-downs missed the cache (issue 17)
   SimplePointTest test_;
   std::vector<char> background_;  // the voxels on the background's side of T
   std::vector<char> region_;      // the start's 6-connected object region (object_region)
