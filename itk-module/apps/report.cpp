@@ -290,6 +290,7 @@ std::string report_json(const RunRecord& r, const Options& options) {
       .add("area_mm2", json_number(r.contacts.area))
       .add("seam_faces", json_number(r.contacts.seam_faces))
       .add("seam_area_mm2", json_number(r.contacts.seam_area))
+      .add("seams_worth_a_voxel_seed", json_bool(seams_worth_a_voxel_seed(r)))
       .add("list", regions);
 
   JsonObject root;

@@ -818,7 +818,12 @@ py::dict extract_surface(py::handle volume, py::handle spacing, py::handle origi
   report["seed"] = s;
   report["model"] = model_report(result.deform, result.seconds, result.check_seconds);
   report["mesh"] = mesh_report(result.mesh, result.report);
-  report["contacts"] = contacts_report(result.contacts);
+  py::dict contacts = contacts_report(result.contacts);
+  // Seams a start from the object's voxels would not leave (voxel_seed=True).
+  contacts["seams_worth_a_voxel_seed"] = options.deform.mode == gdm::Mode::grow && !options.deform.obstacle &&
+                                         !result.deform.voxel_seed &&
+                                         gdm::seams_worth_a_voxel_seed(result.contacts, result.report.area);
+  report["contacts"] = contacts;
   report["parameters"] = parameters(options, seed);
   out["report"] = report;
   out["failure"] = result.failure;

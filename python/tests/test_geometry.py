@@ -327,5 +327,10 @@ def test_a_shell_started_from_its_voxels_has_no_seams():
     assert model["stage_seconds"]["voxel_seed"] > 0.0
     assert grown.report["contacts"]["seam_area_mm2"] > 200.0
     assert voxel.report["contacts"]["seam_area_mm2"] < 0.05 * grown.report["contacts"]["seam_area_mm2"]
+    # The grown model's seams cover over 1 % of its area: the report says a start
+    # from the voxels is worth it; started so, it does not.
+    assert grown.report["contacts"]["seam_area_mm2"] > 0.01 * grown.report["mesh"]["area_mm2"]
+    assert grown.report["contacts"]["seams_worth_a_voxel_seed"] is True
+    assert voxel.report["contacts"]["seams_worth_a_voxel_seed"] is False
     assert voxel.report["mesh"]["genus"] == 0 and voxel.report["mesh"]["closed"]
     assert voxel.report["mesh"]["self_intersections"] == 0

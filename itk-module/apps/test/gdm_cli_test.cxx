@@ -970,11 +970,13 @@ TEST(RealData, SeamsGetTheHintToStartFromTheVoxels) {
     const double area = measure(read_mesh(dir / "grown.ply")).area;
     EXPECT_GT(json_value(slurp(dir / "grown.json"), "seam_area_mm2"), 0.01 * area) << name;
     EXPECT_NE(grown.out.find(gdm_cli::kVoxelSeedHint), std::string::npos) << name << ": " << grown.out;
+    EXPECT_NE(slurp(dir / "grown.json").find("\"seams_worth_a_voxel_seed\": true"), std::string::npos) << name;
     const GdmRun voxels = run_gdm(dir, {file.string(), "--voxel-seed", "-o", "voxels.ply", "--report", "voxels.json"});
     ASSERT_EQ(voxels.code, 0) << name << ": " << voxels.err;
     EXPECT_LT(json_value(slurp(dir / "voxels.json"), "seam_area_mm2"), 0.01 * measure(read_mesh(dir / "voxels.ply")).area)
         << name;
     EXPECT_EQ(voxels.out.find("hint: --voxel-seed"), std::string::npos) << name << ": " << voxels.out;
+    EXPECT_NE(slurp(dir / "voxels.json").find("\"seams_worth_a_voxel_seed\": false"), std::string::npos) << name;
   }
 }
 
