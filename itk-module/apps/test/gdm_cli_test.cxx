@@ -957,27 +957,34 @@ TEST(RealData, ObjectsTheScanCutsWorkAtTheDefaults) {
 
 // Seams (where a growing model's fronts met, self_contact.h) on more than 1 %
 // of the model's area get the summary's hint to start from the object's
-// voxels; started so, the model has none there and no hint. Neghip's blobs
-// and the EPI head leave seams at the defaults (82 and 2,145 mm^2 when this
-// was written, 1.4 and 2.7 % of their areas).
+// voxels (and "seams_worth_a_voxel_seed": true in the report), less get
+// neither; started from its voxels, a model has no hint. Neghip's blobs and
+// the EPI head leave seams at the defaults (82 and 2,145 mm^2 when this was
+// written, 1.4 and 2.7 % of their areas; 0 from their voxels): at least one
+// of them must get the hint, or the test says nothing.
 TEST(RealData, SeamsGetTheHintToStartFromTheVoxels) {
+  int hinted = 0;
   for (const std::string name : {"neghip/neghip.mhd", "mri-epi/mha.mha"}) {
     const fs::path file = kShared + "/data/" + name;
     if (!fs::exists(file)) GTEST_SKIP() << "the scan " << file << " is absent";
     const fs::path dir = work_dir();
     const GdmRun grown = run_gdm(dir, {file.string(), "-o", "grown.ply", "--report", "grown.json"});
     ASSERT_EQ(grown.code, 0) << name << ": " << grown.err;
-    const double area = measure(read_mesh(dir / "grown.ply")).area;
-    EXPECT_GT(json_value(slurp(dir / "grown.json"), "seam_area_mm2"), 0.01 * area) << name;
-    EXPECT_NE(grown.out.find(gdm_cli::kVoxelSeedHint), std::string::npos) << name << ": " << grown.out;
-    EXPECT_NE(slurp(dir / "grown.json").find("\"seams_worth_a_voxel_seed\": true"), std::string::npos) << name;
+    const std::string json = slurp(dir / "grown.json");
+    const bool worth = json_value(json, "seam_area_mm2") > 0.01 * measure(read_mesh(dir / "grown.ply")).area;
+    hinted += worth ? 1 : 0;
+    EXPECT_EQ(grown.out.find(gdm_cli::kVoxelSeedHint) != std::string::npos, worth) << name << ": " << grown.out;
+    EXPECT_NE(json.find(std::string("\"seams_worth_a_voxel_seed\": ") + (worth ? "true" : "false")), std::string::npos)
+        << name;
     const GdmRun voxels = run_gdm(dir, {file.string(), "--voxel-seed", "-o", "voxels.ply", "--report", "voxels.json"});
     ASSERT_EQ(voxels.code, 0) << name << ": " << voxels.err;
-    EXPECT_LT(json_value(slurp(dir / "voxels.json"), "seam_area_mm2"), 0.01 * measure(read_mesh(dir / "voxels.ply")).area)
-        << name;
     EXPECT_EQ(voxels.out.find("hint: --voxel-seed"), std::string::npos) << name << ": " << voxels.out;
     EXPECT_NE(slurp(dir / "voxels.json").find("\"seams_worth_a_voxel_seed\": false"), std::string::npos) << name;
+    if (worth)  // the hint's promise, where the cavity fill left no handle open (it caps them by default)
+      EXPECT_LT(json_value(slurp(dir / "voxels.json"), "seam_area_mm2"), 0.01 * measure(read_mesh(dir / "voxels.ply")).area)
+          << name;
   }
+  EXPECT_GE(hinted, 1) << "neither scan's grown model left seams on over 1 % of its area";
 }
 
 TEST(RealData, ToothPulp) {
