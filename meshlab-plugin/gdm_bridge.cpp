@@ -100,7 +100,7 @@ gdm::Mesh model_from_volume(const std::string& volume_file, const gdm::PipelineO
     return !progress || progress(5 + static_cast<int>(94.0 * p.fraction), "Deforming the model");
   });
   if (r.deform.reason == gdm::StopReason::cancelled) throw gdm::Error("cancelled");
-  log_result(r, prepared.deform.mode == gdm::Mode::grow && !prepared.deform.obstacle, log);
+  log_result(r, gdm::voxel_seed_applies(prepared.deform), log);
   gdm::require_success(r);
   return r.mesh;
 }

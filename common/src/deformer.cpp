@@ -2173,7 +2173,7 @@ CoarseStart grow_coarse_first(Mesh& mesh, const Volume& grow_in, const Volume& i
 // one over 4 per global refinement) without refinements: the seed's faces
 // already have it.
 VoxelSeed voxel_seed_for(Mesh& mesh, const Volume& grow_in, const DeformOptions& requested, DeformOptions& run) {
-  if (!requested.voxel_seed || requested.mode != Mode::grow || requested.obstacle) return {};
+  if (!requested.voxel_seed || !voxel_seed_applies(requested)) return {};
   VoxelSeedOptions v;
   v.threshold = requested.threshold;
   v.object_brighter = requested.polarity == Polarity::object_brighter;
@@ -2186,6 +2186,8 @@ VoxelSeed voxel_seed_for(Mesh& mesh, const Volume& grow_in, const DeformOptions&
   run.global_refinements = 0;
   return seed;
 }
+
+bool voxel_seed_applies(const DeformOptions& options) { return options.mode == Mode::grow && !options.obstacle; }
 
 CavityFill cavity_fill_for(const Mesh& seed, const Volume& volume, const DeformOptions& requested) {
   validate(requested, volume);

@@ -186,7 +186,7 @@ int run(const Options& options_in, RunRecord& record) {
   }
   printer.finish();
   record_model(result, record);
-  record.voxel_seed_possible = prepared.deform.mode == gdm::Mode::grow && !prepared.deform.obstacle;
+  record.voxel_seed_possible = gdm::voxel_seed_applies(prepared.deform);
   record_cost(start, record);
 
   if (!result.failure.empty()) {

@@ -820,8 +820,7 @@ py::dict extract_surface(py::handle volume, py::handle spacing, py::handle origi
   report["mesh"] = mesh_report(result.mesh, result.report);
   py::dict contacts = contacts_report(result.contacts);
   // Seams a start from the object's voxels would not leave (voxel_seed=True).
-  contacts["seams_worth_a_voxel_seed"] = options.deform.mode == gdm::Mode::grow && !options.deform.obstacle &&
-                                         !result.deform.voxel_seed &&
+  contacts["seams_worth_a_voxel_seed"] = gdm::voxel_seed_applies(options.deform) && !result.deform.voxel_seed &&
                                          gdm::seams_worth_a_voxel_seed(result.contacts, result.report.area);
   report["contacts"] = contacts;
   report["parameters"] = parameters(options, seed);

@@ -282,6 +282,10 @@ std::string handle_summary(const DeformResult& result);
 // handle(s) opened into a tube through the hole (genus +1)". Empty for solid.
 std::string topology_summary(const DeformResult& result);
 
+// Whether DeformOptions::voxel_seed applies with these options: growing,
+// without an obstacle (the front ends' hint to start from the voxels asks it too).
+bool voxel_seed_applies(const DeformOptions& options);
+
 // Checks the options against the volume; throws InvalidOption or InvalidVolume.
 void validate(const DeformOptions& options, const Volume& volume);
 
